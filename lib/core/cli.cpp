@@ -1,0 +1,191 @@
+#include "core/cli.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+
+namespace granflow {
+namespace {
+std::string shell_quote(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of(
+                        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_./=:,+@%") ==
+                        std::string::npos)
+    return s;
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string format_real(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+}  // namespace
+
+CommandLine::CommandLine(std::string program, std::string synopsis, std::string description)
+    : program_(std::move(program)), synopsis_(std::move(synopsis)), description_(std::move(description)) {
+  flag("help", 'h', "print this help and exit");
+  flag("version", 0, "print the program version and exit");
+  flag("quiet", 'q', "no progress bar or report on stderr (errors are still printed)");
+}
+
+void CommandLine::option(const std::string& name, char short_name, const std::string& value_name,
+                         const std::string& help, const std::string& default_value) {
+  specs_.push_back({name, short_name, value_name, help, default_value, false, std::nullopt});
+}
+
+void CommandLine::flag(const std::string& name, char short_name, const std::string& help) {
+  specs_.push_back({name, short_name, "", help, "", true, std::nullopt});
+}
+
+void CommandLine::positionals(const std::string& value_name, const std::string& help, std::size_t min_count) {
+  positional_allowed_ = true;
+  positional_name_ = value_name;
+  positional_help_ = help;
+  positional_min_ = min_count;
+}
+
+CommandLine::Spec* CommandLine::find_long(const std::string& name) {
+  for (auto& s : specs_)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+CommandLine::Spec* CommandLine::find_short(char c) {
+  for (auto& s : specs_)
+    if (c && s.short_name == c) return &s;
+  return nullptr;
+}
+const CommandLine::Spec* CommandLine::find(const std::string& name) const {
+  for (auto& s : specs_)
+    if (s.name == name) return &s;
+  throw std::logic_error("option --" + name + " was never declared");
+}
+
+bool CommandLine::parse(int argc, const char* const* argv) {
+  command_line_.clear();
+  for (int i = 0; i < argc; ++i) command_line_ += (i ? " " : "") + shell_quote(argv[i]);
+  bool options_done = false;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (options_done || arg == "-" || arg.empty() || arg[0] != '-') {
+      if (!positional_allowed_) throw UsageError("unexpected argument '" + arg + "' (see --help)");
+      positional_.push_back(arg);
+      continue;
+    }
+    if (arg == "--") { options_done = true; continue; }
+    Spec* spec = nullptr;
+    std::optional<std::string> inline_value;
+    if (arg.rfind("--", 0) == 0) {
+      std::string name = arg.substr(2);
+      auto eq = name.find('=');
+      if (eq != std::string::npos) { inline_value = name.substr(eq + 1); name = name.substr(0, eq); }
+      spec = find_long(name);
+      if (!spec) throw UsageError("unknown option '--" + name + "' (see --help)");
+    } else {
+      if (arg.size() != 2) throw UsageError("unknown option '" + arg + "' (see --help)");
+      spec = find_short(arg[1]);
+      if (!spec) throw UsageError("unknown option '" + arg + "' (see --help)");
+    }
+    if (spec->is_flag) {
+      if (inline_value) throw UsageError("option --" + spec->name + " takes no value");
+      spec->value = "1";
+    } else if (inline_value) {
+      spec->value = *inline_value;
+    } else {
+      if (i + 1 >= argc) throw UsageError("option --" + spec->name + " needs a value <" + spec->value_name + ">");
+      spec->value = argv[++i];
+    }
+  }
+  if (flag_set("help")) { std::fputs(help().c_str(), stdout); return false; }
+  if (flag_set("version")) { std::printf("%s %s\n", program_.c_str(), version().c_str()); return false; }
+  if (positional_.size() < positional_min_)
+    throw UsageError("missing " + positional_name_ + " argument (see --help)");
+  return true;
+}
+
+bool CommandLine::has(const std::string& name) const {
+  const Spec* s = find(name);
+  return s->value.has_value() || !s->default_value.empty();
+}
+bool CommandLine::given(const std::string& name) const { return find(name)->value.has_value(); }
+bool CommandLine::flag_set(const std::string& name) const { return find(name)->value.has_value(); }
+
+std::string CommandLine::text(const std::string& name) const {
+  const Spec* s = find(name);
+  if (s->value) return *s->value;
+  if (!s->default_value.empty()) return s->default_value;
+  throw UsageError("option --" + name + " is required (see --help)");
+}
+
+double CommandLine::real(const std::string& name) const {
+  std::string t = text(name);
+  double v = 0;
+  auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v))
+    throw UsageError("option --" + name + ": '" + t + "' is not a finite number");
+  return v;
+}
+
+long long CommandLine::integer(const std::string& name) const {
+  std::string t = text(name);
+  long long v = 0;
+  auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec != std::errc() || ptr != t.data() + t.size()) {
+    // Accept integral values written as reals (1e4), nothing else.
+    double d = 0;
+    auto [p2, e2] = std::from_chars(t.data(), t.data() + t.size(), d);
+    if (e2 == std::errc() && p2 == t.data() + t.size() && std::isfinite(d) && d == std::floor(d) &&
+        std::fabs(d) < 9.0e15)
+      return static_cast<long long>(d);
+    throw UsageError("option --" + name + ": '" + t + "' is not a whole number");
+  }
+  return v;
+}
+
+std::vector<std::pair<std::string, std::string>> CommandLine::values() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (auto& s : specs_) {
+    if (s.name == "help" || s.name == "version" || s.name == "quiet") continue;
+    if (s.is_flag) out.emplace_back(s.name, s.value ? "1" : "0");
+    else if (s.value) out.emplace_back(s.name, *s.value);
+    else if (!s.default_value.empty()) out.emplace_back(s.name, s.default_value);
+  }
+  return out;
+}
+
+std::string CommandLine::help() const {
+  std::ostringstream o;
+  o << "Usage: " << program_ << " " << synopsis_ << "\n\n" << description_ << "\n\n";
+  if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n      " << positional_help_ << "\n\n";
+  o << "Options:\n";
+  for (auto& s : specs_) {
+    std::string head = "  ";
+    head += s.short_name ? std::string("-") + s.short_name + ", " : "    ";
+    head += "--" + s.name;
+    if (!s.is_flag) head += " <" + s.value_name + ">";
+    o << head << "\n      " << s.help;
+    if (!s.is_flag && !s.default_value.empty()) o << " [default: " << s.default_value << "]";
+    o << "\n";
+  }
+  o << "\nExit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input.\n";
+  return o.str();
+}
+
+void require_in_range(const std::string& option, double value, double lo, double hi, bool lo_open,
+                      bool hi_open) {
+  bool ok = (lo_open ? value > lo : value >= lo) && (hi_open ? value < hi : value <= hi);
+  if (!ok)
+    throw UsageError("option --" + option + ": " + format_real(value) + " is outside " + (lo_open ? "(" : "[") +
+                     format_real(lo) + ", " + format_real(hi) + (hi_open ? ")" : "]"));
+}
+
+void require_positive(const std::string& option, double value) {
+  if (!(value > 0)) throw UsageError("option --" + option + ": must be > 0, got " + format_real(value));
+}
+
+}  // namespace granflow

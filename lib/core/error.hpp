@@ -1,0 +1,21 @@
+#pragma once
+// Errors carry the exit code the tools must return (DESIGN.md: 1 runtime, 2 bad usage/input).
+#include <stdexcept>
+#include <string>
+
+namespace granflow {
+
+// Bad command line or bad/invalid input file: exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// Failure while running on valid input (I/O error mid-run, non-finite state...): exit code 1.
+struct RuntimeFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// SIGINT/SIGTERM reached a long loop: exit code 1 after cleaning up.
+struct Interrupted : std::runtime_error {
+  Interrupted() : std::runtime_error("interrupted by signal") {}
+};
+
+}  // namespace granflow
