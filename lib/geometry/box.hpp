@@ -18,7 +18,9 @@ struct Box {
 
   double area() const { return lx * ly; }
 
-  // Shortest separation vector among the periodic images of d = r_i − r_j.
+  // Shortest separation vector among the periodic images of d = r_i − r_j: exact
+  // whenever that shortest image is shorter than min(lx, ly)/2 (all pair searches
+  // use cutoffs far below that); otherwise some valid image.
   Vec2 minimum_image(Vec2 d) const {
     if (periodic_y) {
       double k = std::round(d.y() / ly);

@@ -1,0 +1,122 @@
+// Unit tests for lib/core: command line, SHA-256, atomic outputs.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/cli.hpp"
+#include "core/error.hpp"
+#include "core/output_file.hpp"
+#include "core/sha256.hpp"
+
+using namespace granflow;
+
+namespace {
+CommandLine make_cli() {
+  CommandLine cli("gf-test", "[options]", "test program");
+  cli.option("grains", 'n', "N", "number of grains", "100");
+  cli.option("rate", 0, "RATE", "shear rate");
+  cli.flag("incline", 0, "incline mode");
+  return cli;
+}
+bool parse(CommandLine& cli, std::vector<const char*> args) {
+  args.insert(args.begin(), "gf-test");
+  return cli.parse(int(args.size()), args.data());
+}
+}  // namespace
+
+TEST(CoreCli, DefaultsAndValues) {
+  auto cli = make_cli();
+  ASSERT_TRUE(parse(cli, {"--rate", "-0.5", "--incline"}));
+  EXPECT_EQ(cli.integer("grains"), 100);
+  EXPECT_DOUBLE_EQ(cli.real("rate"), -0.5);
+  EXPECT_TRUE(cli.flag_set("incline"));
+  EXPECT_TRUE(cli.given("rate"));
+  EXPECT_FALSE(cli.given("grains"));
+}
+
+TEST(CoreCli, ShortAndInlineForms) {
+  auto cli = make_cli();
+  ASSERT_TRUE(parse(cli, {"-n", "1e4", "--rate=2"}));
+  EXPECT_EQ(cli.integer("grains"), 10000);
+  EXPECT_DOUBLE_EQ(cli.real("rate"), 2.0);
+}
+
+TEST(CoreCli, ErrorsNameTheOption) {
+  auto cli = make_cli();
+  try {
+    parse(cli, {"--bogus"});
+    FAIL() << "unknown option accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("--bogus"), std::string::npos);
+  }
+  auto cli2 = make_cli();
+  ASSERT_TRUE(parse(cli2, {"--grains", "12.5", "--rate", "nan"}));
+  EXPECT_THROW(cli2.integer("grains"), UsageError);
+  EXPECT_THROW(cli2.real("rate"), UsageError);
+  auto cli3 = make_cli();
+  ASSERT_TRUE(parse(cli3, {}));
+  EXPECT_THROW(cli3.real("rate"), UsageError);  // required, no default
+  auto cli4 = make_cli();
+  EXPECT_THROW(parse(cli4, {"--rate"}), UsageError);  // missing value
+  auto cli5 = make_cli();
+  EXPECT_THROW(parse(cli5, {"stray"}), UsageError);  // no positionals declared
+}
+
+TEST(CoreCli, HelpListsEveryOptionWithDefault) {
+  auto cli = make_cli();
+  std::string h = cli.help();
+  for (const char* name : {"--grains", "--rate", "--incline", "--help", "--version", "--quiet"})
+    EXPECT_NE(h.find(name), std::string::npos) << name;
+  EXPECT_NE(h.find("[default: 100]"), std::string::npos);
+}
+
+TEST(CoreCli, CommandLineIsShellQuoted) {
+  auto cli = make_cli();
+  ASSERT_TRUE(parse(cli, {"--rate", "it's 1"}));
+  EXPECT_EQ(cli.command_line(), "gf-test --rate 'it'\\''s 1'");
+}
+
+TEST(CoreRange, Checks) {
+  EXPECT_NO_THROW(require_in_range("packing-fraction", 0.5, 0, 0.91, true, true));
+  EXPECT_THROW(require_in_range("packing-fraction", 0.0, 0, 0.91, true, true), UsageError);
+  EXPECT_THROW(require_in_range("packing-fraction", 0.91, 0, 0.91, true, true), UsageError);
+  EXPECT_NO_THROW(require_in_range("restitution", 1.0, 0, 1, false, false));
+  EXPECT_THROW(require_positive("dt", 0.0), UsageError);
+}
+
+TEST(CoreSha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(CoreOutputFile, CommitRenamesAndAbandonRemoves) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::temp_directory_path() / "granflow_test_output_file";
+  fs::create_directories(dir);
+  std::string final_path = (dir / "out.h5").string();
+  fs::remove(final_path);
+  std::string temp;
+  {
+    OutputFile out(final_path);
+    temp = out.temp_path();
+    std::ofstream(temp) << "partial";
+    EXPECT_TRUE(fs::exists(temp));
+  }
+  EXPECT_FALSE(fs::exists(temp));
+  EXPECT_FALSE(fs::exists(final_path));
+  {
+    OutputFile out(final_path);
+    std::ofstream(out.temp_path()) << "done";
+    out.commit();
+  }
+  EXPECT_TRUE(fs::exists(final_path));
+  EXPECT_THROW(OutputFile((dir / "missing_dir" / "x.h5").string()), UsageError);
+  EXPECT_THROW(OutputFile(dir.string()), UsageError);
+  fs::remove_all(dir);
+}
