@@ -1,5 +1,6 @@
 #include "core/output_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -20,9 +21,14 @@ OutputFile::OutputFile(std::string final_path) : final_path_(std::move(final_pat
   if (!fs::is_directory(dir, ec))
     throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' does not exist");
   if (fs::is_directory(p, ec)) throw UsageError("cannot write '" + final_path_ + "': it is a directory");
-  if (access(dir.c_str(), W_OK) != 0)
-    throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' is not writable");
   temp_path_ = (dir / ("." + p.filename().string() + ".part-" + std::to_string(getpid()))).string();
+  // Creating the temporary now is the only reliable writability test (root ignores
+  // permission bits; read-only and virtual file systems refuse anyway).
+  int fd = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0)
+    throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' is not writable (" +
+                     std::strerror(errno) + ")");
+  ::close(fd);
 }
 
 OutputFile::~OutputFile() {

@@ -1,0 +1,41 @@
+"""Small helpers shared by the plotting and report scripts: read granflow HDF5 files
+and write outputs atomically (temporary name, then rename), like the C++ programs."""
+import os
+import tempfile
+
+import h5py
+import numpy as np
+
+
+def read_frame(path, frame=-1):
+    """Positions, radii, box edges and parameters of one stored frame."""
+    with h5py.File(path, "r") as f:
+        g = f["/particles/grains"]
+        pos = g["position/value"][frame]
+        radius = g["radius"][...]
+        fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
+        edges = g["box/edges/value"][frame]
+        params = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["/parameters"].attrs.items()}
+    return {"position": pos, "radius": radius, "fixed": fixed, "edges": edges, "parameters": params}
+
+
+def atomic_output(path):
+    """A temporary path beside `path`; call commit() to rename it into place."""
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=directory, prefix="." + os.path.basename(path) + ".part-",
+                               suffix=os.path.splitext(path)[1])
+    os.close(fd)
+
+    class _Out:
+        name = tmp
+
+        @staticmethod
+        def commit():
+            os.replace(tmp, path)
+
+        @staticmethod
+        def abandon():
+            if os.path.exists(tmp):
+                os.remove(tmp)
+
+    return _Out

@@ -1,0 +1,57 @@
+#pragma once
+// Runs a gf-* program as a user would and captures its exit code and stderr.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace granflow::testing {
+
+struct ToolResult {
+  int exit_code;
+  std::string err;
+};
+
+inline std::string tool_path(const std::string& name) { return std::string(GRANFLOW_BIN_DIR) + "/" + name; }
+
+// args are passed through the shell verbatim: quote them in the call.
+inline ToolResult run_tool(const std::string& name, const std::string& args) {
+  namespace fs = std::filesystem;
+  fs::path err_file = fs::temp_directory_path() / ("granflow_stderr_" + std::to_string(::getpid()));
+  std::string cmd = tool_path(name) + " " + args + " </dev/null >/dev/null 2>" + err_file.string();
+  int status = std::system(cmd.c_str());
+  std::ifstream in(err_file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  fs::remove(err_file);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+inline int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += (c == '\n');
+  return n;
+}
+
+// A fresh scratch directory per test, removed at the end.
+struct ScratchDir {
+  std::filesystem::path path;
+  explicit ScratchDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / ("granflow_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDir() { std::filesystem::remove_all(path); }
+  std::string operator/(const std::string& f) const { return (path / f).string(); }
+  // Number of entries left in the directory (no partial outputs allowed).
+  int entries() const {
+    int n = 0;
+    for ([[maybe_unused]] auto& e : std::filesystem::directory_iterator(path)) ++n;
+    return n;
+  }
+};
+
+}  // namespace granflow::testing
