@@ -16,9 +16,11 @@ def packing_rows(paths):
     for path in paths:
         with h5py.File(path, "r") as f:
             a = f["/parameters"].attrs
-            rows.append((os.path.basename(path), int(a["grains"]), float(a["packing-fraction"]),
-                         float(a["achieved_packing_fraction"]), float(a["max_overlap"]) / float(a["mean-diameter"]),
-                         float(a["seconds"]), int(a["seed"])))
+            obs = f["/observables"]
+            rows.append((os.path.basename(path), len(f["/particles/grains/radius"]), float(a["packing-fraction"]),
+                         float(obs["packing_fraction/value"][0]),
+                         float(obs["max_overlap/value"][0]) / float(a["mean-diameter"]),
+                         float(obs["wall_seconds/value"][0]), int(a["seed"])))
     return rows
 
 

@@ -1,0 +1,385 @@
+#include "io/hdf5_handle.hpp"
+
+#include <algorithm>
+#include <memory>
+
+namespace granflow::io {
+
+void silence_hdf5_errors() {
+  // The error-reporting state is per thread in thread-safe HDF5 builds.
+  thread_local bool silenced = false;
+  if (!silenced) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    silenced = true;
+  }
+}
+
+namespace {
+
+std::string object_name(hid_t loc, ssize_t (*get)(hid_t, char*, size_t)) {
+  ssize_t n = get(loc, nullptr, 0);
+  if (n <= 0) return {};
+  std::string name(std::size_t(n) + 1, '\0');
+  get(loc, name.data(), name.size());
+  name.resize(std::size_t(n));
+  return name;
+}
+
+herr_t keep_innermost(unsigned n, const H5E_error2_t* error, void* data) {
+  if (n == 0 && error->desc) *static_cast<std::string*>(data) = error->desc;
+  return 0;
+}
+
+}  // namespace
+
+std::string where(hid_t loc) {
+  std::string file = object_name(loc, H5Fget_name);
+  std::string object = object_name(loc, H5Iget_name);
+  H5Eclear2(H5E_DEFAULT);  // a failed name lookup must not mask the real error
+  std::string text = "'" + file + "'";
+  if (!object.empty()) text += " " + object;
+  return text;
+}
+
+std::string hdf5_reason() {
+  std::string reason;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &reason);
+  H5Eclear2(H5E_DEFAULT);
+  return reason.empty() ? "unknown HDF5 error" : reason;
+}
+
+void fail(hid_t loc, std::string_view action) {
+  std::string reason = hdf5_reason();  // before where(), which clears the stack
+  throw Hdf5Error(where(loc) + ": " + std::string(action) + ": " + reason);
+}
+
+namespace {
+
+// For calls that have no HDF5 object to name yet (file creation, property lists).
+hid_t check_path(hid_t status, const std::string& path, std::string_view action) {
+  if (status < 0) throw Hdf5Error("'" + path + "': " + std::string(action) + ": " + hdf5_reason());
+  return status;
+}
+
+}  // namespace
+
+PropList file_access_plist() {
+  silence_hdf5_errors();
+  PropList fapl(check_path(H5Pcreate(H5P_FILE_ACCESS), "", "create file access list"));
+  check_path(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), "",
+             "set HDF5 format version");
+#if H5_VERSION_GE(1, 10, 7)
+  check_path(H5Pset_file_locking(fapl.get(), true, true), "", "set file locking");
+#endif
+  return fapl;
+}
+
+PropList creation_plist(hid_t plist_class) {
+  silence_hdf5_errors();
+  PropList plist(check_path(H5Pcreate(plist_class), "", "create property list"));
+  check_path(H5Pset_obj_track_times(plist.get(), false), "", "disable object timestamps");
+  return plist;
+}
+
+File create_file(const std::string& path) {
+  PropList fcpl = creation_plist(H5P_FILE_CREATE);
+  PropList fapl = file_access_plist();
+  return File(check_path(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), path,
+                         "cannot create HDF5 file"));
+}
+
+File open_file(const std::string& path, bool writable) {
+  PropList fapl = file_access_plist();
+  return File(check_path(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()),
+                         path, "cannot open as HDF5 (truncated or corrupt?)"));
+}
+
+bool exists(hid_t loc, const std::string& path) {
+  // H5Lexists fails, rather than answering false, when an intermediate group is missing.
+  std::string prefix = path.starts_with('/') ? "/" : "";
+  std::size_t start = prefix.size();
+  while (start < path.size()) {
+    std::size_t end = std::min(path.find('/', start), path.size());
+    prefix += path.substr(start, end - start);
+    if (check(H5Lexists(loc, prefix.c_str(), H5P_DEFAULT), loc, "look up " + prefix) <= 0)
+      return false;
+    prefix += '/';
+    start = end + 1;
+  }
+  return true;
+}
+
+Group create_group(hid_t loc, const std::string& name) {
+  PropList gcpl = creation_plist(H5P_GROUP_CREATE);
+  return Group(check(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), loc,
+                     "create group " + name));
+}
+
+Group open_group(hid_t loc, const std::string& name) {
+  return Group(check(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), loc, "open group " + name));
+}
+
+Dataset open_dataset(hid_t loc, const std::string& name) {
+  return Dataset(check(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), loc, "open dataset " + name));
+}
+
+std::vector<std::string> link_names(hid_t group) {
+  H5G_info_t info;
+  check(H5Gget_info(group, &info), group, "list group");
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    ssize_t n = check(H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                         H5P_DEFAULT),
+                      group, "list group");
+    std::string name(std::size_t(n) + 1, '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
+                       H5P_DEFAULT);
+    name.resize(std::size_t(n));
+    names.push_back(std::move(name));
+  }
+  return names;
+}
+
+std::vector<hsize_t> shape(hid_t object) {
+  bool is_attribute = H5Iget_type(object) == H5I_ATTR;
+  Dataspace space(check(is_attribute ? H5Aget_space(object) : H5Dget_space(object), object,
+                        "get dataspace"));
+  int rank = check(H5Sget_simple_extent_ndims(space.get()), object, "get rank");
+  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
+std::string shape_text(const std::vector<hsize_t>& dims) {
+  if (dims.empty()) return "scalar";
+  std::string text;
+  for (hsize_t d : dims) text += "[" + std::to_string(d) + "]";
+  return text;
+}
+
+template <class T>
+void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
+                   const T* data) {
+  Dataspace space(check(H5Screate_simple(int(dims.size()), dims.data(), nullptr), loc,
+                        "create dataspace for " + name));
+  PropList dcpl = creation_plist(H5P_DATASET_CREATE);
+  Dataset dataset(check(H5Dcreate2(loc, name.c_str(), file_type<T>(), space.get(), H5P_DEFAULT,
+                                   dcpl.get(), H5P_DEFAULT),
+                        loc, "create dataset " + name));
+  check(H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+        dataset.get(), "write");
+}
+template void write_dataset<double>(hid_t, const std::string&, const std::vector<hsize_t>&,
+                                    const double*);
+template void write_dataset<std::uint8_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
+                                          const std::uint8_t*);
+
+void read_rows(hid_t dataset, hsize_t first, hsize_t count, hid_t mem_type, void* out) {
+  std::vector<hsize_t> dims = shape(dataset);
+  if (dims.empty() || first + count > dims[0])
+    throw Hdf5Error(where(dataset) + ": rows " + std::to_string(first) + "+" +
+                    std::to_string(count) + " outside " + shape_text(dims));
+  if (count == 0) return;
+  Dataspace file_space(check(H5Dget_space(dataset), dataset, "get dataspace"));
+  std::vector<hsize_t> start(dims.size(), 0), extent = dims;
+  start[0] = first;
+  extent[0] = count;
+  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(),
+                            nullptr),
+        dataset, "select rows");
+  Dataspace mem_space(check(H5Screate_simple(int(extent.size()), extent.data(), nullptr), dataset,
+                            "create memory dataspace"));
+  check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out), dataset,
+        "read");
+}
+
+namespace {
+
+hsize_t elements_per_row(const std::vector<hsize_t>& dims) {
+  hsize_t n = 1;
+  for (std::size_t i = 1; i < dims.size(); ++i) n *= dims[i];
+  return n;
+}
+
+}  // namespace
+
+template <class T>
+std::vector<T> read_rows(hid_t dataset, hsize_t first, hsize_t count) {
+  std::vector<T> values(count * elements_per_row(shape(dataset)));
+  read_rows(dataset, first, count, native_type<T>(), values.data());
+  return values;
+}
+template std::vector<double> read_rows<double>(hid_t, hsize_t, hsize_t);
+template std::vector<std::int64_t> read_rows<std::int64_t>(hid_t, hsize_t, hsize_t);
+template std::vector<std::int32_t> read_rows<std::int32_t>(hid_t, hsize_t, hsize_t);
+template std::vector<std::uint8_t> read_rows<std::uint8_t>(hid_t, hsize_t, hsize_t);
+
+template <class T>
+std::vector<T> read_all(hid_t dataset) {
+  std::vector<hsize_t> dims = shape(dataset);
+  if (dims.empty()) throw Hdf5Error(where(dataset) + ": expected an array, found a scalar");
+  return read_rows<T>(dataset, 0, dims[0]);
+}
+template std::vector<double> read_all<double>(hid_t);
+template std::vector<std::int64_t> read_all<std::int64_t>(hid_t);
+template std::vector<std::int32_t> read_all<std::int32_t>(hid_t);
+template std::vector<std::uint8_t> read_all<std::uint8_t>(hid_t);
+
+// ---- attributes ----
+
+namespace {
+
+Datatype string_type(hid_t loc, std::size_t length) {
+  Datatype type(check(H5Tcopy(H5T_C_S1), loc, "copy string type"));
+  // HDF5 has no zero-size strings: an empty string is one NUL byte.
+  H5Tset_size(type.get(), std::max<std::size_t>(length, 1));
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  return type;
+}
+
+void write_attribute_raw(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                         const std::vector<hsize_t>& dims, const void* data) {
+  delete_attribute_if_exists(loc, name);
+  Dataspace space(check(dims.empty() ? H5Screate(H5S_SCALAR)
+                                     : H5Screate_simple(int(dims.size()), dims.data(), nullptr),
+                        loc, "create dataspace for attribute " + name));
+  Attribute attribute(check(H5Acreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT,
+                                       H5P_DEFAULT),
+                            loc, "create attribute " + name));
+  check(H5Awrite(attribute.get(), mem_type, data), loc, "write attribute " + name);
+}
+
+hsize_t element_count(hid_t attribute) {
+  hsize_t n = 1;
+  for (hsize_t d : shape(attribute)) n *= d;
+  return n;
+}
+
+template <class T>
+T read_scalar(hid_t attribute) {
+  if (element_count(attribute) != 1)
+    throw Hdf5Error(where(attribute) + ": attribute holds " + std::to_string(element_count(attribute)) +
+                    " values, expected one");
+  T value;
+  check(H5Aread(attribute, native_type<T>(), &value), attribute, "read attribute");
+  return value;
+}
+
+}  // namespace
+
+void delete_attribute_if_exists(hid_t loc, const std::string& name) {
+  if (has_attribute(loc, name))
+    check(H5Adelete(loc, name.c_str()), loc, "delete attribute " + name);
+}
+
+void write_attribute(hid_t loc, const std::string& name, double value) {
+  write_attribute_raw(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}, &value);
+}
+
+void write_attribute(hid_t loc, const std::string& name, std::int64_t value) {
+  write_attribute_raw(loc, name, H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &value);
+}
+
+void write_attribute(hid_t loc, const std::string& name, std::int32_t value) {
+  write_attribute_raw(loc, name, H5T_STD_I32LE, H5T_NATIVE_INT32, {}, &value);
+}
+
+void write_attribute(hid_t loc, const std::string& name, const std::string& value) {
+  Datatype type = string_type(loc, value.size());
+  std::string padded = value;
+  padded.resize(std::max<std::size_t>(value.size(), 1), '\0');
+  write_attribute_raw(loc, name, type.get(), type.get(), {}, padded.data());
+}
+
+void write_attribute(hid_t loc, const std::string& name, const std::vector<std::int32_t>& values) {
+  write_attribute_raw(loc, name, H5T_STD_I32LE, H5T_NATIVE_INT32, {values.size()}, values.data());
+}
+
+void write_attribute(hid_t loc, const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size());
+  std::string packed(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) packed.replace(i * width, values[i].size(), values[i]);
+  Datatype type = string_type(loc, width);
+  write_attribute_raw(loc, name, type.get(), type.get(), {values.size()}, packed.data());
+}
+
+bool has_attribute(hid_t loc, const std::string& name) {
+  return check(H5Aexists(loc, name.c_str()), loc, "look up attribute " + name) > 0;
+}
+
+Attribute open_attribute(hid_t loc, const std::string& name) {
+  return Attribute(check(H5Aopen(loc, name.c_str(), H5P_DEFAULT), loc, "open attribute " + name));
+}
+
+H5T_class_t attribute_class(hid_t attribute) {
+  Datatype type(check(H5Aget_type(attribute), attribute, "get attribute type"));
+  return H5Tget_class(type.get());
+}
+
+double read_double_attribute(hid_t attribute) { return read_scalar<double>(attribute); }
+
+std::int64_t read_int_attribute(hid_t attribute) { return read_scalar<std::int64_t>(attribute); }
+
+std::vector<std::int64_t> read_int_array_attribute(hid_t attribute) {
+  std::vector<std::int64_t> values(element_count(attribute));
+  check(H5Aread(attribute, H5T_NATIVE_INT64, values.data()), attribute, "read attribute");
+  return values;
+}
+
+std::vector<std::string> read_string_attributes(hid_t attribute) {
+  Datatype type(check(H5Aget_type(attribute), attribute, "get attribute type"));
+  if (H5Tget_class(type.get()) != H5T_STRING)
+    throw Hdf5Error(where(attribute) + ": attribute is not a string");
+  std::size_t count = element_count(attribute);
+  std::vector<std::string> values;
+  if (check(H5Tis_variable_str(type.get()), attribute, "inspect string type") > 0) {
+    Datatype mem(check(H5Tcopy(H5T_C_S1), attribute, "copy string type"));
+    H5Tset_size(mem.get(), H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
+    std::vector<char*> pointers(count, nullptr);
+    check(H5Aread(attribute, mem.get(), pointers.data()), attribute, "read attribute");
+    for (char* p : pointers) {
+      values.emplace_back(p ? p : "");
+      H5free_memory(p);
+    }
+  } else {
+    std::size_t width = H5Tget_size(type.get());
+    std::string packed(width * count, '\0');
+    check(H5Aread(attribute, type.get(), packed.data()), attribute, "read attribute");
+    for (std::size_t i = 0; i < count; ++i) {
+      std::string v = packed.substr(i * width, width);
+      v.resize(std::min(v.find('\0'), v.size()));  // NULLPAD or NULLTERM
+      values.push_back(std::move(v));
+    }
+  }
+  return values;
+}
+
+std::string read_string_attribute(hid_t attribute) {
+  std::vector<std::string> values = read_string_attributes(attribute);
+  if (values.size() != 1)
+    throw Hdf5Error(where(attribute) + ": attribute holds " + std::to_string(values.size()) +
+                    " strings, expected one");
+  return values.front();
+}
+
+namespace {
+
+herr_t collect_name(hid_t, const char* name, const H5A_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+  return 0;
+}
+
+}  // namespace
+
+std::vector<std::string> attribute_names(hid_t loc) {
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  check(H5Aiterate2(loc, H5_INDEX_NAME, H5_ITER_INC, &index, collect_name, &names), loc,
+        "list attributes");
+  return names;
+}
+
+}  // namespace granflow::io

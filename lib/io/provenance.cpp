@@ -1,0 +1,33 @@
+#include "io/provenance.hpp"
+
+#include <charconv>
+#include <cmath>
+
+#include "core/sha256.hpp"
+#include "core/version.hpp"
+
+namespace granflow::io {
+
+Parameters provenance(const CommandLine& cli) {
+  Parameters p;
+  for (const auto& [name, text] : cli.values()) {
+    std::int64_t i = 0;
+    double d = 0;
+    const char* end = text.data() + text.size();
+    if (auto r = std::from_chars(text.data(), end, i); r.ec == std::errc() && r.ptr == end) p.set(name, i);
+    else if (auto r2 = std::from_chars(text.data(), end, d); r2.ec == std::errc() && r2.ptr == end) p.set(name, d);
+    else p.set(name, text);
+  }
+  p.set("command_line", cli.command_line());
+  p.set("program", cli.program());
+  p.set("version", version());
+  return p;
+}
+
+void add_input(Parameters& parameters, const std::string& path, int index) {
+  std::string key = index == 0 ? "input" : "input_" + std::to_string(index);
+  parameters.set(key, path);
+  parameters.set(key + "_sha256", sha256_file(path));
+}
+
+}  // namespace granflow::io

@@ -1,0 +1,20 @@
+#pragma once
+// Provenance for /parameters (DESIGN.md): every option value, the exact command line,
+// the program and its version, and the identity of each input file, so that any
+// output can be traced back to the run and the code that made it.
+#include <string>
+
+#include "core/cli.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::io {
+
+// Every option of cli (given or defaulted) as an attribute — whole numbers as int64,
+// other numbers as double, the rest as strings — plus command_line, program, version.
+Parameters provenance(const CommandLine& cli);
+
+// Records an input file: input (path) and input_sha256; the k-th extra input of a
+// multi-input program goes to input_<k> and input_<k>_sha256.
+void add_input(Parameters& parameters, const std::string& path, int index = 0);
+
+}  // namespace granflow::io

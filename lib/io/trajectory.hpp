@@ -1,0 +1,186 @@
+#pragma once
+// Trajectory and packing files: HDF5 in the H5MD 1.1 layout of DESIGN.md ("Data" and
+// "Names every program shares"). A packing is a trajectory with one frame.
+//
+//   /h5md                          version [1,1], author, creator
+//   /parameters                    one attribute per parameter + provenance
+//   /particles/grains/{radius,mass,fixed}                 [N]
+//   /particles/grains/{position,velocity}                 H5MD element, value [n][N][2]
+//   /particles/grains/{orientation,angular_velocity}      H5MD element, value [n][N]
+//   /particles/grains/box          dimension, boundary; edges element [n][2][2]
+//   /lees_edwards                  rate; offset element [n] (boxes periodic in y)
+//   /contacts/frame_offset [n+1] and the flat contact columns
+//   /observables/<name>            H5MD elements, value [rows] or [rows][2][2]
+//
+// An H5MD element is a group holding step [n] (int64), time [n] (double) and value.
+// /contacts exists once a frame carrying contacts has been written; frames written
+// without contacts then count zero rows.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/vec.hpp"
+#include "geometry/box.hpp"
+
+namespace granflow::io {
+
+struct GrainProperties {
+  std::vector<double> radius, mass;
+  std::vector<std::uint8_t> fixed;  // 1 for immobile base grains (incline)
+};
+
+// Contacts of one frame, one entry per contact in every column.
+struct ContactRecords {
+  std::vector<std::array<std::int32_t, 2>> pair;        // grain indices (i, j)
+  std::vector<double> normal_force, tangential_force;
+  std::vector<Vec2> branch;                             // r_i − r_j, minimum image
+  std::vector<double> binary_force;                     // F_bc (thesis eq. 5.4)
+  // v_i·n̂, v_j·n̂ before the step (fluctuating part)
+  std::vector<std::array<double, 2>> pre_normal_velocity;
+  std::vector<std::int64_t> age;                        // steps the contact has existed
+
+  std::size_t size() const { return pair.size(); }
+  void clear();
+};
+
+struct Frame {
+  std::int64_t step = 0;
+  double time = 0;
+  Box box;
+  std::vector<Vec2> position, velocity;  // velocity in the lab frame
+  std::vector<double> orientation, angular_velocity;
+  ContactRecords contacts;
+  bool has_contacts = false;
+};
+
+// Input parameters and provenance (command_line, program, version, input,
+// input_sha256), stored as one attribute each on /parameters, with native types.
+class Parameters {
+ public:
+  using Value = std::variant<double, std::int64_t, std::string>;
+
+  Parameters() = default;
+  // Parameters read from a file: errors name the file.
+  explicit Parameters(std::string origin) : origin_(std::move(origin)) {}
+
+  void set(const std::string& name, double value) { values_[name] = value; }
+  void set(const std::string& name, std::int64_t value) { values_[name] = value; }
+  void set(const std::string& name, std::string value) { values_[name] = std::move(value); }
+  void set(const std::string& name, const char* value) { values_[name] = std::string(value); }
+  // Any other integer (int, unsigned, bool...) is stored as int64.
+  template <class T>
+    requires std::is_integral_v<T>
+  void set(const std::string& name, T value) {
+    values_[name] = std::int64_t(value);
+  }
+
+  bool has(const std::string& name) const { return values_.contains(name); }
+  // UsageError naming the parameter (and the file) if absent or of another type;
+  // get_double also accepts an integer.
+  double get_double(const std::string& name) const;
+  std::int64_t get_int(const std::string& name) const;
+  const std::string& get_string(const std::string& name) const;
+  // In name order.
+  const std::map<std::string, Value>& items() const { return values_; }
+
+ private:
+  const Value& find(const std::string& name) const;
+  [[noreturn]] void wrong_type(const std::string& name, const char* expected) const;
+
+  std::string origin_;
+  std::map<std::string, Value> values_;
+};
+
+class TrajectoryWriter {
+ public:
+  // Creates (truncates) path and writes /h5md. Object timestamps are off, so the same
+  // calls give byte-identical files. RuntimeFailure naming the path on any HDF5 error.
+  explicit TrajectoryWriter(const std::string& path, const std::string& author = "granflow user");
+  TrajectoryWriter(TrajectoryWriter&&) noexcept;
+  TrajectoryWriter& operator=(TrajectoryWriter&&) noexcept;
+  ~TrajectoryWriter();  // closes; never throws (a failure is reported on stderr)
+
+  // Replaces any attribute of the same name.
+  void write_parameters(const Parameters& parameters);
+  // Once, before the first frame; N ≥ 1 and all three columns of size N. The box gives
+  // the boundary (periodic in y or not); its edges are written with every frame.
+  void write_grains(const GrainProperties& grains, const Box& box);
+  // γ̇ of the Lees–Edwards images (boxes periodic in y; 0 until set).
+  void set_lees_edwards_rate(double rate);
+  // Steps must increase from frame to frame; every per-grain column has size N.
+  void append_frame(const Frame& frame);
+
+  // One row of /observables/<name>; steps of one observable must increase. Rows are
+  // buffered and written in blocks, so calling this every simulation step is cheap.
+  void append_observable(const std::string& name, std::int64_t step, double time, double value);
+  void append_observable(const std::string& name, std::int64_t step, double time,
+                         const Mat2& value);
+
+  void flush();  // writes buffered rows and flushes the file
+  void close();  // flush and close; further calls fail
+
+  std::size_t frame_count() const;
+  const std::string& path() const;
+
+  // For checkpoint/resume: reopens a trajectory written by this class, cuts every
+  // time-dependent dataset to its first keep_frames frames (contacts to those frames'
+  // rows) and every observable to its rows with step <= keep_observables_through_step,
+  // then appends from there. UsageError if the file is not a trajectory or has fewer
+  // than keep_frames frames.
+  static TrajectoryWriter reopen_for_append(const std::string& path, std::size_t keep_frames,
+                                            std::int64_t keep_observables_through_step);
+
+ private:
+  struct Impl;
+  explicit TrajectoryWriter(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+class TrajectoryReader {
+ public:
+  // Checks the file up front; UsageError with one line naming the path and what is
+  // wrong (missing, not HDF5 or truncated, missing group, dataset of the wrong shape).
+  // Every later error reading it is a UsageError naming the path too.
+  explicit TrajectoryReader(const std::string& path);
+  TrajectoryReader(TrajectoryReader&&) noexcept;
+  TrajectoryReader& operator=(TrajectoryReader&&) noexcept;
+  ~TrajectoryReader();
+
+  std::size_t frame_count() const;
+  std::size_t grain_count() const;
+  GrainProperties grains() const;
+  Box box(std::size_t frame) const;
+  // Reads only frame k, with its contacts when the file has them (has_contacts).
+  Frame frame(std::size_t k) const;
+  std::vector<std::int64_t> frame_steps() const;
+  std::vector<double> frame_times() const;
+  bool has_contacts() const;
+
+  Parameters parameters() const;  // empty if the file has no /parameters
+  double lees_edwards_rate() const;  // 0 if absent
+
+  bool has_observable(const std::string& name) const;
+  std::vector<std::string> observable_names() const;
+  std::vector<std::int64_t> observable_step(const std::string& name) const;
+  std::vector<double> observable_time(const std::string& name) const;
+  std::vector<double> observable_scalar(const std::string& name) const;
+  std::vector<Mat2> observable_tensor(const std::string& name) const;
+
+  const std::string& path() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A packing: a one-frame trajectory with its grains and parameters.
+void write_packing(const std::string& path, const Frame& frame, const GrainProperties& grains,
+                   const Parameters& parameters);
+
+}  // namespace granflow::io

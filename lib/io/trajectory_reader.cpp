@@ -1,0 +1,293 @@
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "io/hdf5_handle.hpp"
+#include "io/schema.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::io {
+
+namespace {
+
+// Any HDF5 failure while reading means the input file is bad: exit code 2.
+template <class F>
+auto as_usage_error(F&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const Hdf5Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+}  // namespace
+
+struct TrajectoryReader::Impl {
+  std::string path;
+  File file;
+  std::size_t frames = 0, grains = 0;
+  bool periodic_y = true;
+  bool contacts = false;
+
+  [[noreturn]] void bad(const std::string& what) const { throw UsageError("'" + path + "': " + what); }
+
+  void require_group(const std::string& group, const char* kind) const {
+    if (!exists(file.get(), group)) bad(std::string(kind) + ": no group " + group);
+  }
+
+  // Opens a dataset and checks its shape; inner is everything after the first dimension.
+  Dataset checked(const std::string& name, hsize_t rows, const std::vector<hsize_t>& inner,
+                  const std::string& expected) const {
+    if (!exists(file.get(), name)) bad("missing dataset " + name);
+    Dataset dataset = open_dataset(file.get(), name);
+    std::vector<hsize_t> dims = shape(dataset.get()), want{rows};
+    want.insert(want.end(), inner.begin(), inner.end());
+    if (dims != want)
+      bad(name + " has shape " + shape_text(dims) + " but must be " + expected + " = " +
+          shape_text(want));
+    return dataset;
+  }
+
+  void validate() {
+    require_group(schema::kH5md, "not an H5MD file");
+    require_group(schema::kGrains, "not a granflow trajectory");
+    const std::string position = schema::kPosition + "/value";
+    if (!exists(file.get(), position)) bad("missing dataset " + position);
+    Dataset dataset = open_dataset(file.get(), position);
+    std::vector<hsize_t> dims = shape(dataset.get());
+    if (dims.size() != 3 || dims[2] != 2)
+      bad(position + " has shape " + shape_text(dims) + " but must be [frames][grains][2]");
+    frames = dims[0];
+    grains = dims[1];
+
+    for (const char* name : {"radius", "mass", "fixed"})
+      checked(schema::kGrains + "/" + name, grains, {}, "[grains]");
+    require_group(schema::kBox, "not a granflow trajectory");
+    periodic_y = schema::read_periodic_y(file.get());
+    for (const auto& element : schema::frame_elements(grains, periodic_y)) {
+      checked(element.path + "/step", frames, {}, "[frames]");
+      checked(element.path + "/time", frames, {}, "[frames]");
+      checked(element.path + "/value", frames, element.inner, "[frames]" + element.inner_text);
+    }
+
+    contacts = exists(file.get(), schema::kContacts);
+    if (contacts) {
+      Dataset offsets = checked(schema::kFrameOffset, frames + 1, {}, "[frames+1]");
+      std::vector<std::int64_t> offset = read_all<std::int64_t>(offsets.get());
+      for (std::size_t k = 0; k < frames; ++k)
+        if (offset[k + 1] < offset[k]) bad(schema::kFrameOffset + " decreases at frame " + std::to_string(k));
+      if (offset[0] != 0) bad(schema::kFrameOffset + " must start at 0");
+      for (const auto& column : schema::contact_columns())
+        checked(schema::kContacts + "/" + column.name, hsize_t(offset[frames]), column.inner,
+                "[contacts]" + (column.inner.empty() ? "" : shape_text(column.inner)));
+    }
+  }
+
+  std::int64_t frame_rows(std::size_t k) const {
+    Dataset offsets = open_dataset(file.get(), schema::kFrameOffset);
+    return read_rows<std::int64_t>(offsets.get(), k, 1)[0];
+  }
+
+  void require_frame(std::size_t k) const {
+    if (k >= frames)
+      bad("frame " + std::to_string(k) + " out of range: the file has " + std::to_string(frames) +
+          " frames");
+  }
+
+  Box box(std::size_t k) const {
+    require_frame(k);
+    Dataset edges = open_dataset(file.get(), schema::kEdges + "/value");
+    std::vector<double> e = read_rows<double>(edges.get(), k, 1);  // [[lx, 0], [offset, ly]]
+    Box b;
+    b.lx = e[0];
+    b.offset = e[2];
+    b.ly = e[3];
+    b.periodic_y = periodic_y;
+    return b;
+  }
+
+  template <class T>
+  std::vector<T> read(const std::string& name) const {
+    Dataset dataset = open_dataset(file.get(), name);
+    return read_all<T>(dataset.get());
+  }
+
+  // The observable's value dataset, checked to hold rows of the given shape.
+  Dataset observable_value(const std::string& name, const std::vector<hsize_t>& inner) const {
+    if (!has_observable(name)) bad("no observable '" + name + "'");
+    Dataset value = open_dataset(file.get(), schema::kObservables + "/" + name + "/value");
+    std::vector<hsize_t> dims = shape(value.get());
+    if (dims.empty() || std::vector<hsize_t>(dims.begin() + 1, dims.end()) != inner)
+      bad("observable '" + name + "' has shape " + shape_text(dims) + ", expected [rows]" +
+          (inner.empty() ? " (a scalar)" : shape_text(inner) + " (a tensor)"));
+    return value;
+  }
+
+  bool has_observable(const std::string& name) const {
+    return name.find('/') == std::string::npos && !name.empty() &&
+           exists(file.get(), schema::kObservables + "/" + name + "/value");
+  }
+};
+
+TrajectoryReader::TrajectoryReader(TrajectoryReader&&) noexcept = default;
+TrajectoryReader& TrajectoryReader::operator=(TrajectoryReader&&) noexcept = default;
+TrajectoryReader::~TrajectoryReader() = default;
+
+TrajectoryReader::TrajectoryReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) impl_->bad("no such file");
+  if (std::filesystem::is_directory(path, ec)) impl_->bad("is a directory, not a trajectory file");
+  silence_hdf5_errors();
+#if H5_VERSION_GE(1, 12, 0)
+  htri_t is_hdf5 = H5Fis_accessible(path.c_str(), H5P_DEFAULT);
+#else
+  htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+#endif
+  if (is_hdf5 < 0) impl_->bad("cannot read: " + hdf5_reason());
+  if (is_hdf5 == 0) impl_->bad("not an HDF5 file");
+  as_usage_error([&] {
+    impl_->file = open_file(path, false);
+    impl_->validate();
+  });
+}
+
+std::size_t TrajectoryReader::frame_count() const { return impl_->frames; }
+std::size_t TrajectoryReader::grain_count() const { return impl_->grains; }
+bool TrajectoryReader::has_contacts() const { return impl_->contacts; }
+const std::string& TrajectoryReader::path() const { return impl_->path; }
+
+GrainProperties TrajectoryReader::grains() const {
+  return as_usage_error([&] {
+    GrainProperties g;
+    g.radius = impl_->read<double>(schema::kGrains + "/radius");
+    g.mass = impl_->read<double>(schema::kGrains + "/mass");
+    g.fixed = impl_->read<std::uint8_t>(schema::kGrains + "/fixed");
+    return g;
+  });
+}
+
+Box TrajectoryReader::box(std::size_t frame) const {
+  return as_usage_error([&] { return impl_->box(frame); });
+}
+
+Frame TrajectoryReader::frame(std::size_t k) const {
+  impl_->require_frame(k);
+  return as_usage_error([&] {
+    hid_t file = impl_->file.get();
+    Frame f;
+    f.box = impl_->box(k);
+    Dataset step = open_dataset(file, schema::kPosition + "/step");
+    Dataset time = open_dataset(file, schema::kPosition + "/time");
+    f.step = read_rows<std::int64_t>(step.get(), k, 1)[0];
+    f.time = read_rows<double>(time.get(), k, 1)[0];
+    std::size_t n = impl_->grains;
+    auto read_frame = [&](const std::string& element, double* out) {
+      Dataset value = open_dataset(file, element + "/value");
+      read_rows(value.get(), k, 1, H5T_NATIVE_DOUBLE, out);
+    };
+    f.position.resize(n);
+    f.velocity.resize(n);
+    f.orientation.resize(n);
+    f.angular_velocity.resize(n);
+    read_frame(schema::kPosition, f.position.data()->data());
+    read_frame(schema::kVelocity, f.velocity.data()->data());
+    read_frame(schema::kOrientation, f.orientation.data());
+    read_frame(schema::kAngularVelocity, f.angular_velocity.data());
+
+    f.has_contacts = impl_->contacts;
+    if (f.has_contacts) {
+      std::int64_t first = impl_->frame_rows(k), rows = impl_->frame_rows(k + 1) - first;
+      for (const auto& column : schema::contact_columns()) {
+        Dataset dataset = open_dataset(file, schema::kContacts + "/" + column.name);
+        read_rows(dataset.get(), hsize_t(first), hsize_t(rows), column.mem_type,
+                  column.resize(f.contacts, std::size_t(rows)));
+      }
+    }
+    return f;
+  });
+}
+
+std::vector<std::int64_t> TrajectoryReader::frame_steps() const {
+  return as_usage_error([&] { return impl_->read<std::int64_t>(schema::kPosition + "/step"); });
+}
+
+std::vector<double> TrajectoryReader::frame_times() const {
+  return as_usage_error([&] { return impl_->read<double>(schema::kPosition + "/time"); });
+}
+
+Parameters TrajectoryReader::parameters() const {
+  return as_usage_error([&] {
+    Parameters p(impl_->path);
+    hid_t file = impl_->file.get();
+    if (!exists(file, schema::kParameters)) return p;
+    Group group = open_group(file, schema::kParameters);
+    for (const std::string& name : attribute_names(group.get())) {
+      Attribute attribute = open_attribute(group.get(), name);
+      switch (attribute_class(attribute.get())) {
+        case H5T_FLOAT: p.set(name, read_double_attribute(attribute.get())); break;
+        case H5T_INTEGER: p.set(name, read_int_attribute(attribute.get())); break;
+        case H5T_STRING: p.set(name, read_string_attribute(attribute.get())); break;
+        default: impl_->bad("parameter '" + name + "' is not a number or a string");
+      }
+    }
+    return p;
+  });
+}
+
+double TrajectoryReader::lees_edwards_rate() const {
+  return as_usage_error([&] {
+    hid_t file = impl_->file.get();
+    if (!exists(file, schema::kLeesEdwards)) return 0.0;
+    Group group = open_group(file, schema::kLeesEdwards);
+    if (!has_attribute(group.get(), "rate")) return 0.0;
+    Attribute rate = open_attribute(group.get(), "rate");
+    return read_double_attribute(rate.get());
+  });
+}
+
+bool TrajectoryReader::has_observable(const std::string& name) const {
+  return as_usage_error([&] { return impl_->has_observable(name); });
+}
+
+std::vector<std::string> TrajectoryReader::observable_names() const {
+  return as_usage_error([&] {
+    hid_t file = impl_->file.get();
+    if (!exists(file, schema::kObservables)) return std::vector<std::string>{};
+    Group group = open_group(file, schema::kObservables);
+    return link_names(group.get());
+  });
+}
+
+std::vector<std::int64_t> TrajectoryReader::observable_step(const std::string& name) const {
+  return as_usage_error([&] {
+    if (!impl_->has_observable(name)) impl_->bad("no observable '" + name + "'");
+    return impl_->read<std::int64_t>(schema::kObservables + "/" + name + "/step");
+  });
+}
+
+std::vector<double> TrajectoryReader::observable_time(const std::string& name) const {
+  return as_usage_error([&] {
+    if (!impl_->has_observable(name)) impl_->bad("no observable '" + name + "'");
+    return impl_->read<double>(schema::kObservables + "/" + name + "/time");
+  });
+}
+
+std::vector<double> TrajectoryReader::observable_scalar(const std::string& name) const {
+  return as_usage_error([&] {
+    Dataset value = impl_->observable_value(name, {});
+    return read_all<double>(value.get());
+  });
+}
+
+std::vector<Mat2> TrajectoryReader::observable_tensor(const std::string& name) const {
+  return as_usage_error([&] {
+    Dataset value = impl_->observable_value(name, schema::kTensorShape);
+    std::vector<double> flat = read_all<double>(value.get());
+    std::vector<Mat2> tensors(flat.size() / 4);
+    for (std::size_t r = 0; r < tensors.size(); ++r)
+      tensors[r] << flat[4 * r], flat[4 * r + 1], flat[4 * r + 2], flat[4 * r + 3];  // row-major
+    return tensors;
+  });
+}
+
+}  // namespace granflow::io

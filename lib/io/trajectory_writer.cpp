@@ -1,0 +1,365 @@
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <optional>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+#include "io/extendible_dataset.hpp"
+#include "io/hdf5_handle.hpp"
+#include "io/schema.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::io {
+
+namespace {
+
+// Observable rows are buffered and written this many at a time.
+constexpr std::size_t kObservableBlock = 4096;
+
+// An H5MD time-dependent element: step [n], time [n], value [n]+inner (doubles).
+struct Element {
+  ExtendibleDataset step, time, value;
+
+  static Element create(hid_t loc, const std::string& path, const std::vector<hsize_t>& inner) {
+    Group group = create_group(loc, path);
+    return {ExtendibleDataset::create<std::int64_t>(group.get(), "step", {}),
+            ExtendibleDataset::create<double>(group.get(), "time", {}),
+            ExtendibleDataset::create<double>(group.get(), "value", inner)};
+  }
+  static Element open(hid_t loc, const std::string& path) {
+    Group group = open_group(loc, path);
+    return {ExtendibleDataset::open<std::int64_t>(group.get(), "step"),
+            ExtendibleDataset::open<double>(group.get(), "time"),
+            ExtendibleDataset::open<double>(group.get(), "value")};
+  }
+  void append(const std::int64_t* steps, const double* times, const double* values, hsize_t rows) {
+    step.append(steps, rows);
+    time.append(times, rows);
+    value.append(values, rows);
+  }
+  void resize(hsize_t rows) {
+    step.resize(rows);
+    time.resize(rows);
+    value.resize(rows);
+  }
+};
+
+struct Observable {
+  Element element;
+  std::size_t width = 1;  // doubles per row: 1 (scalar) or 4 (2×2 tensor)
+  std::optional<std::int64_t> last_step;
+  std::vector<std::int64_t> steps;
+  std::vector<double> times, values;
+
+  void flush() {
+    element.append(steps.data(), times.data(), values.data(), steps.size());
+    steps.clear();
+    times.clear();
+    values.clear();
+  }
+};
+
+struct Contacts {
+  std::vector<ExtendibleDataset> columns;  // in schema::contact_columns() order
+  ExtendibleDataset frame_offset;
+  std::int64_t rows = 0;
+};
+
+// Everything that holds HDF5 objects of the file, so close() can release it all
+// before closing the file itself.
+struct Content {
+  std::size_t grains = 0;  // 0 until write_grains
+  bool periodic_y = true;
+  std::vector<Element> elements;  // schema::frame_elements() order
+  std::optional<std::int64_t> last_frame_step;
+  std::optional<Contacts> contacts;
+  std::map<std::string, Observable> observables;  // ordered: flushes in a fixed order
+};
+
+}  // namespace
+
+struct TrajectoryWriter::Impl {
+  std::string path;
+  File file;
+  Content content;
+
+  // The open file; RuntimeFailure after close().
+  hid_t id() const {
+    if (!file) throw RuntimeFailure("'" + path + "': trajectory writer used after close()");
+    return file.get();
+  }
+
+  void create_contacts(std::size_t frames_before) {
+    Group group = create_group(id(), schema::kContacts);
+    Contacts c;
+    for (const auto& column : schema::contact_columns())
+      c.columns.push_back(ExtendibleDataset::create(group.get(), column.name, column.file_type,
+                                                    column.mem_type, column.inner));
+    c.frame_offset = ExtendibleDataset::create<std::int64_t>(group.get(), "frame_offset", {});
+    // Frames written before contacts were recorded have none.
+    std::vector<std::int64_t> zeros(frames_before + 1, 0);
+    c.frame_offset.append(zeros.data(), zeros.size());
+    content.contacts = std::move(c);
+  }
+
+  void flush_observables() {
+    for (auto& [name, observable] : content.observables)
+      if (!observable.steps.empty()) observable.flush();
+  }
+
+  Observable& observable(const std::string& name, std::size_t width, std::int64_t step) {
+    auto it = content.observables.find(name);
+    if (it == content.observables.end()) {
+      if (name.empty() || name.find('/') != std::string::npos || name == ".")
+        throw RuntimeFailure("'" + path + "': invalid observable name '" + name + "'");
+      if (!exists(id(), schema::kObservables)) create_group(id(), schema::kObservables);
+      std::vector<hsize_t> inner = width == 1 ? std::vector<hsize_t>{} : schema::kTensorShape;
+      Observable o;
+      o.element = Element::create(id(), schema::kObservables + "/" + name, inner);
+      o.width = width;
+      it = content.observables.emplace(name, std::move(o)).first;
+    }
+    Observable& o = it->second;
+    if (o.width != width)
+      throw RuntimeFailure("'" + path + "': observable '" + name + "' is a " +
+                           (o.width == 1 ? "scalar" : "tensor") + ", cannot append a " +
+                           (width == 1 ? "scalar" : "tensor"));
+    if (o.last_step && step <= *o.last_step)
+      throw RuntimeFailure("'" + path + "': observable '" + name + "': step " +
+                           std::to_string(step) + " after step " + std::to_string(*o.last_step));
+    o.last_step = step;
+    return o;
+  }
+
+  void close() {
+    if (!file) return;
+    flush_observables();
+    content = Content{};
+    if (H5Fclose(file.release()) < 0) throw Hdf5Error("'" + path + "': close: " + hdf5_reason());
+  }
+
+  ~Impl() {
+    try {
+      close();
+    } catch (const std::exception& e) {
+      // A destructor must not throw; the file is incomplete, say so.
+      std::fprintf(stderr, "granflow: closing trajectory failed: %s\n", e.what());
+    }
+  }
+};
+
+TrajectoryWriter::TrajectoryWriter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+TrajectoryWriter::TrajectoryWriter(TrajectoryWriter&&) noexcept = default;
+TrajectoryWriter& TrajectoryWriter::operator=(TrajectoryWriter&&) noexcept = default;
+TrajectoryWriter::~TrajectoryWriter() = default;
+
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const std::string& author)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->file = create_file(path);
+  hid_t file = impl_->file.get();
+  Group h5md = create_group(file, schema::kH5md);
+  write_attribute(h5md.get(), "version", std::vector<std::int32_t>{1, 1});
+  Group author_group = create_group(h5md.get(), "author");
+  write_attribute(author_group.get(), "name", author);
+  Group creator = create_group(h5md.get(), "creator");
+  write_attribute(creator.get(), "name", std::string("granflow"));
+  write_attribute(creator.get(), "version", granflow::version());
+}
+
+void TrajectoryWriter::write_parameters(const Parameters& parameters) {
+  hid_t file = impl_->id();
+  Group group = exists(file, schema::kParameters) ? open_group(file, schema::kParameters)
+                                                  : create_group(file, schema::kParameters);
+  for (const auto& [name, value] : parameters.items())
+    std::visit([&](const auto& v) { write_attribute(group.get(), name, v); }, value);
+}
+
+void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& box) {
+  hid_t file = impl_->id();
+  Content& c = impl_->content;
+  const std::string& path = impl_->path;
+  if (c.grains != 0) throw RuntimeFailure("'" + path + "': grains written twice");
+  std::size_t n = grains.radius.size();
+  if (n == 0) throw RuntimeFailure("'" + path + "': a trajectory needs at least one grain");
+  if (grains.mass.size() != n || grains.fixed.size() != n)
+    throw RuntimeFailure("'" + path + "': grain properties of different sizes (radius " +
+                         std::to_string(n) + ", mass " + std::to_string(grains.mass.size()) +
+                         ", fixed " + std::to_string(grains.fixed.size()) + ")");
+
+  create_group(file, schema::kParticles);
+  Group group = create_group(file, schema::kGrains);
+  write_dataset(group.get(), "radius", {n}, grains.radius.data());
+  write_dataset(group.get(), "mass", {n}, grains.mass.data());
+  write_dataset(group.get(), "fixed", {n}, grains.fixed.data());
+  Group box_group = create_group(file, schema::kBox);
+  write_attribute(box_group.get(), "dimension", std::int32_t{2});
+  write_attribute(box_group.get(), "boundary",
+                  std::vector<std::string>{"periodic", box.periodic_y ? "periodic" : "none"});
+  if (box.periodic_y) {
+    Group lees_edwards = create_group(file, schema::kLeesEdwards);
+    write_attribute(lees_edwards.get(), "rate", 0.0);
+  }
+  for (const auto& element : schema::frame_elements(n, box.periodic_y))
+    c.elements.push_back(Element::create(file, element.path, element.inner));
+  c.grains = n;
+  c.periodic_y = box.periodic_y;
+}
+
+void TrajectoryWriter::set_lees_edwards_rate(double rate) {
+  hid_t file = impl_->id();
+  const Content& c = impl_->content;
+  if (c.grains == 0 || !c.periodic_y)
+    throw RuntimeFailure("'" + impl_->path +
+                         "': a Lees–Edwards rate needs write_grains() with a box periodic in y");
+  Group group = open_group(file, schema::kLeesEdwards);
+  write_attribute(group.get(), "rate", rate);
+}
+
+void TrajectoryWriter::append_frame(const Frame& frame) {
+  impl_->id();
+  Content& c = impl_->content;
+  const std::string& path = impl_->path;
+  if (c.grains == 0) throw RuntimeFailure("'" + path + "': append_frame() before write_grains()");
+  auto require_size = [&](const char* what, std::size_t size, std::size_t expected) {
+    if (size != expected)
+      throw RuntimeFailure("'" + path + "': frame at step " + std::to_string(frame.step) + ": " +
+                           what + " has " + std::to_string(size) + " entries, expected " +
+                           std::to_string(expected));
+  };
+  require_size("position", frame.position.size(), c.grains);
+  require_size("velocity", frame.velocity.size(), c.grains);
+  require_size("orientation", frame.orientation.size(), c.grains);
+  require_size("angular_velocity", frame.angular_velocity.size(), c.grains);
+  if (frame.box.periodic_y != c.periodic_y)
+    throw RuntimeFailure("'" + path + "': frame box boundary differs from write_grains()");
+  if (c.last_frame_step && frame.step <= *c.last_frame_step)
+    throw RuntimeFailure("'" + path + "': frame step " + std::to_string(frame.step) +
+                         " after step " + std::to_string(*c.last_frame_step));
+  const ContactRecords& contacts = frame.contacts;
+  if (frame.has_contacts) {
+    for (const auto& column : schema::contact_columns())
+      require_size(("contacts " + column.name).c_str(), column.size(contacts), contacts.size());
+    for (const auto& p : contacts.pair)
+      if (p[0] < 0 || p[1] < 0 || std::size_t(p[0]) >= c.grains || std::size_t(p[1]) >= c.grains)
+        throw RuntimeFailure("'" + path + "': contact pair (" + std::to_string(p[0]) + ", " +
+                             std::to_string(p[1]) + ") outside the grains");
+  }
+
+  std::size_t frames_before = c.elements.front().value.rows();
+  const double edges[4] = {frame.box.lx, 0.0, frame.box.offset, frame.box.ly};
+  // One frame of each element, in schema::frame_elements() order.
+  const double* values[] = {frame.position.data()->data(), frame.velocity.data()->data(),
+                            frame.orientation.data(), frame.angular_velocity.data(), edges,
+                            &frame.box.offset};
+  for (std::size_t i = 0; i < c.elements.size(); ++i)
+    c.elements[i].append(&frame.step, &frame.time, values[i], 1);
+
+  if (frame.has_contacts && !c.contacts) impl_->create_contacts(frames_before);
+  if (c.contacts) {
+    std::size_t rows = frame.has_contacts ? contacts.size() : 0;
+    const auto& columns = schema::contact_columns();
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      c.contacts->columns[i].append(columns[i].data(contacts), rows);
+    c.contacts->rows += std::int64_t(rows);
+    c.contacts->frame_offset.append(&c.contacts->rows, 1);
+  }
+  c.last_frame_step = frame.step;
+}
+
+void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time,
+                                         double value) {
+  Observable& o = impl_->observable(name, 1, step);
+  o.steps.push_back(step);
+  o.times.push_back(time);
+  o.values.push_back(value);
+  if (o.steps.size() >= kObservableBlock) o.flush();
+}
+
+void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time,
+                                         const Mat2& value) {
+  Observable& o = impl_->observable(name, 4, step);
+  o.steps.push_back(step);
+  o.times.push_back(time);
+  // Row-major [i][j] = T_ij; Eigen stores column-major.
+  o.values.insert(o.values.end(), {value(0, 0), value(0, 1), value(1, 0), value(1, 1)});
+  if (o.steps.size() >= kObservableBlock) o.flush();
+}
+
+void TrajectoryWriter::flush() {
+  hid_t file = impl_->id();
+  impl_->flush_observables();
+  check(H5Fflush(file, H5F_SCOPE_LOCAL), file, "flush");
+}
+
+void TrajectoryWriter::close() { impl_->close(); }
+
+std::size_t TrajectoryWriter::frame_count() const {
+  const Content& c = impl_->content;
+  return c.elements.empty() ? 0 : c.elements.front().value.rows();
+}
+
+const std::string& TrajectoryWriter::path() const { return impl_->path; }
+
+TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path,
+                                                     std::size_t keep_frames,
+                                                     std::int64_t keep_observables_through_step) {
+  {
+    TrajectoryReader reader(path);  // the same checks and messages as any input
+    if (keep_frames > reader.frame_count())
+      throw UsageError("'" + path + "': cannot keep " + std::to_string(keep_frames) +
+                       " frames, the file has " + std::to_string(reader.frame_count()));
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  try {
+    impl->file = open_file(path, true);
+    hid_t file = impl->file.get();
+    Content& c = impl->content;
+    Dataset radius = open_dataset(file, schema::kGrains + "/radius");
+    c.grains = shape(radius.get()).at(0);
+    c.periodic_y = schema::read_periodic_y(file);
+    for (const auto& element : schema::frame_elements(c.grains, c.periodic_y)) {
+      c.elements.push_back(Element::open(file, element.path));
+      c.elements.back().resize(keep_frames);
+    }
+    if (keep_frames > 0)
+      c.last_frame_step = read_rows<std::int64_t>(c.elements.front().step.id(), keep_frames - 1, 1)[0];
+
+    if (exists(file, schema::kContacts)) {
+      Group group = open_group(file, schema::kContacts);
+      Contacts contacts;
+      for (const auto& column : schema::contact_columns())
+        contacts.columns.push_back(ExtendibleDataset::open(group.get(), column.name, column.mem_type));
+      contacts.frame_offset = ExtendibleDataset::open<std::int64_t>(group.get(), "frame_offset");
+      contacts.rows = read_rows<std::int64_t>(contacts.frame_offset.id(), keep_frames, 1)[0];
+      contacts.frame_offset.resize(keep_frames + 1);
+      for (auto& column : contacts.columns) column.resize(hsize_t(contacts.rows));
+      c.contacts = std::move(contacts);
+    }
+
+    if (exists(file, schema::kObservables)) {
+      Group group = open_group(file, schema::kObservables);
+      for (const std::string& name : link_names(group.get())) {
+        Observable o;
+        o.element = Element::open(group.get(), name);
+        const auto& inner = o.element.value.inner();
+        if (!inner.empty() && inner != schema::kTensorShape)
+          throw UsageError("'" + path + "': observable '" + name + "' has rows of shape " +
+                           shape_text(inner) + ", expected scalars or [2][2]");
+        o.width = inner.empty() ? 1 : 4;
+        std::vector<std::int64_t> steps = read_all<std::int64_t>(o.element.step.id());
+        auto kept = std::upper_bound(steps.begin(), steps.end(), keep_observables_through_step);
+        o.element.resize(hsize_t(kept - steps.begin()));
+        if (kept != steps.begin()) o.last_step = *(kept - 1);
+        c.observables.emplace(name, std::move(o));
+      }
+    }
+  } catch (const Hdf5Error& e) {
+    throw UsageError(e.what());
+  }
+  return TrajectoryWriter(std::move(impl));
+}
+
+}  // namespace granflow::io
