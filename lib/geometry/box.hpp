@@ -43,7 +43,15 @@ struct Box {
         r.x() -= k * offset;
         v.x() -= k * rate * ly;
         crossings = int(k);
-        if (r.y() >= ly) r.y() -= ly;  // round-off guard: keep r.y in [0, ly)
+        // Round-off guards, keeping r.y in [0, ly). y just below 0 maps onto ly itself:
+        // undo one crossing (y = 0 in the original image), not just y, or x and v_x
+        // would carry a shift of a crossing that did not happen.
+        if (r.y() >= ly) {
+          r.y() -= ly;
+          r.x() -= offset;
+          v.x() -= rate * ly;
+          ++crossings;
+        }
         if (r.y() < 0) r.y() = 0;
       }
     }
