@@ -171,8 +171,10 @@ void Engine::build_rows() {
     const std::uint64_t key = pair_key(i, j);
     while (p < prev_key_.size() && prev_key_[p] < key) ++p;
     if (p < prev_key_.size() && prev_key_[p] == key) {
-      r.pn = prev_pn_[p];
-      r.pt = prev_pt_[p];
+      // Warm start from the recorded forces, so that a run restarted from a stored
+      // frame (forces, not impulses, are on file) starts from the very same numbers.
+      r.pn = prev_fn_[p] * dt_;
+      r.pt = prev_ft_[p] * dt_;
       row_age_[c] = prev_age_[p];
     }
   }
@@ -299,8 +301,8 @@ void Engine::solve() {
 void Engine::record_contacts() {
   records_.clear();
   prev_key_.clear();
-  prev_pn_.clear();
-  prev_pt_.clear();
+  prev_fn_.clear();
+  prev_ft_.clear();
   prev_age_.clear();
   const double e = material_.restitution;
   for (std::size_t c = 0; c < rows_.size(); ++c) {
@@ -314,15 +316,16 @@ void Engine::record_contacts() {
     const double shift = k.image * rate_ * box_.ly;
     const double un = (state_.velocity[r.i] - state_.velocity[r.j]).dot(n) - shift * r.nx;
     records_.pair.push_back({r.i, r.j});
-    records_.normal_force.push_back(r.pn / dt_);
-    records_.tangential_force.push_back(r.pt / dt_);
+    const double fn = r.pn / dt_, ft = r.pt / dt_;
+    records_.normal_force.push_back(fn);
+    records_.tangential_force.push_back(ft);
     records_.branch.emplace_back(k.dx, k.dy);
     records_.binary_force.push_back((1 + e) * r.inv_w * std::max(0.0, -un) / dt_);
     records_.pre_normal_velocity.push_back({vi.dot(n), vj.dot(n)});
     records_.age.push_back(age);
     prev_key_.push_back(pair_key(r.i, r.j));
-    prev_pn_.push_back(r.pn);
-    prev_pt_.push_back(r.pt);
+    prev_fn_.push_back(fn);
+    prev_ft_.push_back(ft);
     prev_age_.push_back(age);
   }
   report_.candidates = int(rows_.size());
@@ -369,8 +372,8 @@ ContactMemory Engine::memory() const {
   ContactMemory m;
   for (std::size_t c = 0; c < prev_key_.size(); ++c)
     m.pair.push_back({int(prev_key_[c] >> 32), int(prev_key_[c] & 0xffffffffu)});
-  m.normal_impulse = prev_pn_;
-  m.tangential_impulse = prev_pt_;
+  m.normal_force = prev_fn_;
+  m.tangential_force = prev_ft_;
   m.age = prev_age_;
   return m;
 }
@@ -378,22 +381,22 @@ ContactMemory Engine::memory() const {
 void Engine::restore(std::int64_t step, const ContactMemory& memory) {
   const std::size_t c = memory.pair.size();
   require(step >= 0, "restored step counter must be >= 0");
-  require(memory.normal_impulse.size() == c && memory.tangential_impulse.size() == c && memory.age.size() == c,
+  require(memory.normal_force.size() == c && memory.tangential_force.size() == c && memory.age.size() == c,
           "contact memory arrays have inconsistent lengths");
   std::vector<std::uint64_t> keys(c);
   for (std::size_t k = 0; k < c; ++k) {
     const auto [i, j] = memory.pair[k];
     require(i >= 0 && i < j && std::size_t(j) < state_.size(), "contact memory: bad pair");
-    require(std::isfinite(memory.normal_impulse[k]) && memory.normal_impulse[k] >= 0 &&
-                std::isfinite(memory.tangential_impulse[k]) && memory.age[k] >= 1,
-            "contact memory: bad impulse or age");
+    require(std::isfinite(memory.normal_force[k]) && memory.normal_force[k] >= 0 &&
+                std::isfinite(memory.tangential_force[k]) && memory.age[k] >= 1,
+            "contact memory: bad force or age");
     keys[k] = pair_key(i, j);
     require(k == 0 || keys[k - 1] < keys[k], "contact memory: pairs not sorted or repeated");
   }
   steps_ = step;
   prev_key_ = std::move(keys);
-  prev_pn_ = memory.normal_impulse;
-  prev_pt_ = memory.tangential_impulse;
+  prev_fn_ = memory.normal_force;
+  prev_ft_ = memory.tangential_force;
   prev_age_ = memory.age;
 }
 

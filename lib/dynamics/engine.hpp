@@ -78,12 +78,14 @@ struct ContactRecords {
   void clear();
 };
 
-// What a step passes to the next one: warm-start impulses and contact ages. Part of
-// the dynamical state: a restart is bit-identical only if this is restored too.
+// What a step passes to the next one: the contacts' forces (warm start P = F·dt) and
+// ages. Part of the dynamical state: a restart is bit-identical only if this is
+// restored too. It holds exactly the normal_force, tangential_force and age columns
+// of ContactRecords, so a stored trajectory frame is a complete restart point.
 struct ContactMemory {
   std::vector<std::array<int, 2>> pair;  // (i, j), i < j, sorted
-  std::vector<double> normal_impulse;
-  std::vector<double> tangential_impulse;
+  std::vector<double> normal_force;
+  std::vector<double> tangential_force;
   std::vector<int> age;
 };
 
@@ -160,7 +162,7 @@ class Engine {
   std::vector<int> row_age_;  // age of the matched contact of the previous step, else 0
   // Memory of the previous step, sorted by key = (i << 32) | j.
   std::vector<std::uint64_t> prev_key_;
-  std::vector<double> prev_pn_, prev_pt_;
+  std::vector<double> prev_fn_, prev_ft_;  // forces, as recorded
   std::vector<int> prev_age_;
 
   ContactRecords records_;

@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "badinput/run_tool.hpp"
+#include "io/trajectory.hpp"
 
 using namespace granflow::testing;
 
@@ -49,7 +51,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"output_dir_missing", "--grains 10 -o {out}/nodir/p.h5", "does not exist"},
         Case{"incline_width_zero", "--incline --width 0 -o {out}", "--width"},
         Case{"seed_negative", "--seed -3 -o {out}", "--seed"}),
-    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
 
 TEST(GfPackBadInput, UnwritableDirectory) {
   // /proc refuses new files even to root; a chmod-ed directory covers ordinary users.
@@ -70,4 +72,34 @@ TEST(GfPackUsage, HelpAndVersion) {
   EXPECT_EQ(r.exit_code, 0);
   auto v = run_tool("gf-pack", "--version");
   EXPECT_EQ(v.exit_code, 0);
+}
+
+// --input files that are not packings: missing, not HDF5, truncated, lacking a group,
+// a frame out of range. The message names the file; nothing is written.
+TEST(GfPackBadInput, BadInputFiles) {
+  ScratchDir dir("pack_bad_inputs");
+  ScratchDir out_dir("pack_bad_inputs_out");
+  const std::string good = dir / "good.h5";
+  ASSERT_EQ(run_tool("gf-pack", "--grains 100 --quiet -o " + good).exit_code, 0);
+
+  const std::string text = dir / "text.h5";
+  std::ofstream(text) << "not hdf5\n";
+  const std::string truncated = dir / "truncated.h5";
+  std::filesystem::copy_file(good, truncated);
+  std::filesystem::resize_file(truncated, std::filesystem::file_size(good) / 2);
+  const std::string no_grains = dir / "no_grains.h5";
+  granflow::io::TrajectoryWriter(no_grains).close();
+
+  struct BadFile {
+    std::string path, args, expected;
+  };
+  for (const BadFile& b : {BadFile{dir / "missing.h5", "", "missing.h5"}, BadFile{text, "", "text.h5"},
+                           BadFile{truncated, "", "truncated.h5"}, BadFile{no_grains, "", "/particles/grains"},
+                           BadFile{good, "--frame 3", "--frame"}}) {
+    auto r = run_tool("gf-pack", "-i " + b.path + " " + b.args + " -o " + (out_dir / "out.h5"));
+    EXPECT_EQ(r.exit_code, 2) << b.path << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(b.expected), std::string::npos) << r.err;
+    EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << b.path;
+  }
 }
