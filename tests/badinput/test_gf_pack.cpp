@@ -16,6 +16,9 @@ struct Case {
   const char* expected;  // a piece of the one-line message
 };
 
+// Test names and failure messages show the case name, not its bytes.
+[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 std::string with_output(std::string args, const std::string& out) {
   auto at = args.find("{out}");
   if (at != std::string::npos) args.replace(at, 5, out);
