@@ -15,7 +15,8 @@ struct RuntimeFailure : std::runtime_error {
 };
 // SIGINT/SIGTERM reached a long loop: exit code 1 after cleaning up.
 struct Interrupted : std::runtime_error {
-  Interrupted() : std::runtime_error("interrupted by signal") {}
+  explicit Interrupted(const std::string& what = "interrupted by signal; no output written")
+      : std::runtime_error(what) {}
 };
 
 }  // namespace granflow

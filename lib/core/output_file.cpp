@@ -12,7 +12,7 @@
 
 namespace granflow {
 
-OutputFile::OutputFile(std::string final_path) : final_path_(std::move(final_path)) {
+OutputFile::OutputFile(std::string final_path, bool resumable) : final_path_(std::move(final_path)) {
   namespace fs = std::filesystem;
   if (final_path_.empty()) throw UsageError("output path is empty");
   fs::path p(final_path_);
@@ -21,10 +21,13 @@ OutputFile::OutputFile(std::string final_path) : final_path_(std::move(final_pat
   if (!fs::is_directory(dir, ec))
     throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' does not exist");
   if (fs::is_directory(p, ec)) throw UsageError("cannot write '" + final_path_ + "': it is a directory");
-  temp_path_ = (dir / ("." + p.filename().string() + ".part-" + std::to_string(getpid()))).string();
+  temp_path_ = (dir / ("." + p.filename().string() + (resumable ? std::string(".part")
+                                                                  : ".part-" + std::to_string(getpid()))))
+                   .string();
   // Creating the temporary now is the only reliable writability test (root ignores
   // permission bits; read-only and virtual file systems refuse anyway).
-  int fd = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  // No O_TRUNC: a resumable run must not destroy the partial output it will continue.
+  int fd = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT, 0644);
   if (fd < 0)
     throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' is not writable (" +
                      std::strerror(errno) + ")");
@@ -32,7 +35,7 @@ OutputFile::OutputFile(std::string final_path) : final_path_(std::move(final_pat
 }
 
 OutputFile::~OutputFile() {
-  if (!committed_) std::remove(temp_path_.c_str());
+  if (!committed_ && !keep_) std::remove(temp_path_.c_str());
 }
 
 void OutputFile::commit() {

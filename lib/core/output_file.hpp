@@ -10,7 +10,9 @@ namespace granflow {
 class OutputFile {
  public:
   // Checks up front that the directory exists and is writable (UsageError otherwise).
-  explicit OutputFile(std::string final_path);
+  // A resumable output uses the fixed temporary name ".NAME.part" (instead of one
+  // with the process id) so that a later run can find and continue it.
+  explicit OutputFile(std::string final_path, bool resumable = false);
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -18,10 +20,12 @@ class OutputFile {
   const std::string& temp_path() const { return temp_path_; }
   const std::string& final_path() const { return final_path_; }
   void commit();  // atomic rename; RuntimeFailure on error
+  // Leave the temporary in place at destruction (an interrupted resumable run).
+  void keep_partial() { keep_ = true; }
 
  private:
   std::string final_path_, temp_path_;
-  bool committed_ = false;
+  bool committed_ = false, keep_ = false;
 };
 
 }  // namespace granflow

@@ -16,7 +16,7 @@ int run_tool(const char* program, const std::function<int()>& body) {
     std::fprintf(stderr, "%s: error: %s\n", program, e.what());
     return 2;
   } catch (const Interrupted& e) {
-    std::fprintf(stderr, "\n%s: %s; no output written\n", program, e.what());
+    std::fprintf(stderr, "%s: %s\n", program, e.what());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: failure: %s\n", program, e.what());

@@ -108,6 +108,8 @@ class TrajectoryWriter {
 
   // Replaces any attribute of the same name.
   void write_parameters(const Parameters& parameters);
+  // The same for any group (created if missing), e.g. a run summary in /run.
+  void write_attributes(const std::string& group_path, const Parameters& values);
   // Once, before the first frame; N ≥ 1 and all three columns of size N. The box gives
   // the boundary (periodic in y or not); its edges are written with every frame.
   void write_grains(const GrainProperties& grains, const Box& box);
@@ -163,6 +165,7 @@ class TrajectoryReader {
   bool has_contacts() const;
 
   Parameters parameters() const;  // empty if the file has no /parameters
+  Parameters attributes(const std::string& group_path) const;  // empty if the group is absent
   double lees_edwards_rate() const;  // 0 if absent
 
   bool has_observable(const std::string& name) const;

@@ -215,12 +215,14 @@ std::vector<double> TrajectoryReader::frame_times() const {
   return as_usage_error([&] { return impl_->read<double>(schema::kPosition + "/time"); });
 }
 
-Parameters TrajectoryReader::parameters() const {
+Parameters TrajectoryReader::parameters() const { return attributes(schema::kParameters); }
+
+Parameters TrajectoryReader::attributes(const std::string& group_path) const {
   return as_usage_error([&] {
     Parameters p(impl_->path);
     hid_t file = impl_->file.get();
-    if (!exists(file, schema::kParameters)) return p;
-    Group group = open_group(file, schema::kParameters);
+    if (!exists(file, group_path)) return p;
+    Group group = open_group(file, group_path);
     for (const std::string& name : attribute_names(group.get())) {
       Attribute attribute = open_attribute(group.get(), name);
       switch (attribute_class(attribute.get())) {

@@ -169,10 +169,13 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const std::string& a
 }
 
 void TrajectoryWriter::write_parameters(const Parameters& parameters) {
+  write_attributes(schema::kParameters, parameters);
+}
+
+void TrajectoryWriter::write_attributes(const std::string& group_path, const Parameters& values) {
   hid_t file = impl_->id();
-  Group group = exists(file, schema::kParameters) ? open_group(file, schema::kParameters)
-                                                  : create_group(file, schema::kParameters);
-  for (const auto& [name, value] : parameters.items())
+  Group group = exists(file, group_path) ? open_group(file, group_path) : create_group(file, group_path);
+  for (const auto& [name, value] : values.items())
     std::visit([&](const auto& v) { write_attribute(group.get(), name, v); }, value);
 }
 

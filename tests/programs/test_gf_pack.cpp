@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "badinput/run_tool.hpp"
+#include "programs/run_tool.hpp"
 #include "io/trajectory.hpp"
 
 using namespace granflow::testing;

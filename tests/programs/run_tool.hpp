@@ -1,6 +1,8 @@
 #pragma once
 // Runs a gf-* program as a user would and captures its exit code and stderr.
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -53,5 +55,27 @@ struct ScratchDir {
     return n;
   }
 };
+
+}  // namespace granflow::testing
+
+namespace granflow::testing {
+
+// Starts a program in the background (its own process, stdout/stderr to files in dir);
+// returns its pid, for tests that signal it.
+inline pid_t start_tool(const std::string& name, const std::string& args, const std::string& log) {
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    std::string cmd = "exec " + tool_path(name) + " " + args + " </dev/null >/dev/null 2>" + log;
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+inline int wait_exit_code(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
 
 }  // namespace granflow::testing

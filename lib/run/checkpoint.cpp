@@ -1,0 +1,59 @@
+#include "run/checkpoint.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "run/frames.hpp"
+
+namespace granflow {
+
+std::string checkpoint_path(const std::string& output) {
+  std::filesystem::path p(output);
+  return (p.parent_path() / ("." + p.filename().string() + ".checkpoint")).string();
+}
+
+void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
+                      const std::string& signature) {
+  const std::string temp = path + ".new";
+  {
+    io::TrajectoryWriter writer(temp);
+    io::Parameters info;
+    info.set("step", engine.step_count());
+    info.set("frames_written", stats.frames_written);
+    info.set("unconverged_steps", stats.unconverged_steps);
+    info.set("iterations", stats.iterations);
+    info.set("contact_updates", stats.contact_updates);
+    info.set("max_residual", stats.max_residual);
+    info.set("wall_seconds", stats.wall_seconds);
+    info.set("signature", signature);
+    writer.write_attributes("/checkpoint", info);
+    writer.write_grains(properties_of(engine.state()), engine.box());
+    if (engine.box().periodic_y) writer.set_lees_edwards_rate(engine.rate());
+    writer.append_frame(frame_of(engine, engine.step_count(), engine.time()));
+    writer.close();
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0)
+    throw RuntimeFailure("cannot write checkpoint '" + path + "'");
+}
+
+Checkpoint read_checkpoint(const std::string& path) {
+  io::TrajectoryReader reader(path);
+  io::Parameters info = reader.attributes("/checkpoint");
+  if (!info.has("signature") || reader.frame_count() != 1)
+    throw UsageError("'" + path + "' is not a granflow checkpoint");
+  Checkpoint c;
+  c.step = info.get_int("step");
+  c.stats.frames_written = info.get_int("frames_written");
+  c.stats.unconverged_steps = info.get_int("unconverged_steps");
+  c.stats.iterations = info.get_int("iterations");
+  c.stats.contact_updates = info.get_int("contact_updates");
+  c.stats.max_residual = info.get_double("max_residual");
+  c.stats.wall_seconds = info.get_double("wall_seconds");
+  c.signature = info.get_string("signature");
+  c.frame = reader.frame(0);
+  c.grains = reader.grains();
+  return c;
+}
+
+}  // namespace granflow

@@ -1,0 +1,38 @@
+#pragma once
+// The time loop shared by gf-shear and gf-incline: steps the engine, records the
+// solver's statistics and the geometry's observables, stores frames, writes
+// checkpoints periodically and on SIGINT/SIGTERM, and shows progress. The physics of
+// what is observed stays with the caller (an Observer).
+#include <functional>
+#include <string>
+
+#include "dynamics/engine.hpp"
+#include "io/trajectory.hpp"
+#include "run/checkpoint.hpp"
+
+namespace granflow {
+
+struct RunPlan {
+  std::int64_t total_steps = 0;    // stop when the engine's step count reaches this
+  std::int64_t frame_every = 0;    // store a frame every this many steps (and at the end)
+  std::int64_t observe_every = 1;  // record observables every this many steps
+  double checkpoint_seconds = 600; // wall time between checkpoints; 0: only on a signal
+  std::string checkpoint_path;     // where checkpoints go
+  std::string signature;           // stored in checkpoints (what a resume must match)
+  double strain_per_step = 0;      // for the progress line (γ̇·dt); 0 shows time instead
+  bool quiet = false;
+};
+
+// Records the geometry's observables of the engine's current step.
+using Observer = std::function<void(const Engine&, io::TrajectoryWriter&)>;
+
+// Runs until plan.total_steps. Throws Interrupted (with a message saying how to
+// resume) after writing a checkpoint when a signal arrives. Returns the updated stats.
+RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& plan, RunStats stats,
+                   const Observer& observe);
+
+// The run's statistics as the /run group of a trajectory (steps, wall time, speed,
+// unconverged steps, mean iterations): the summary a user checks first.
+void write_run_summary(io::TrajectoryWriter& writer, const Engine& engine, const RunStats& stats);
+
+}  // namespace granflow

@@ -1,0 +1,100 @@
+#include "run/shear.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/random.hpp"
+#include "dynamics/observables.hpp"
+#include "run/frames.hpp"
+
+namespace granflow {
+namespace {
+
+bool at_rest(const GrainState& s) {
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.velocity[i] != Vec2::Zero() || s.angular_velocity[i] != 0) return false;
+  return true;
+}
+
+// Gaussian velocities, zero total momentum, ω = 0, scaled to T exactly.
+void thermalise(GrainState& s, const Box& box, double temperature, std::uint64_t seed) {
+  Rng rng(seed);
+  Vec2 momentum = Vec2::Zero();
+  double mass = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double vx = rng.normal();
+    s.velocity[i] = Vec2(vx, rng.normal());
+    momentum += s.mass[i] * s.velocity[i];
+    mass += s.mass[i];
+  }
+  for (auto& v : s.velocity) v -= momentum / mass;
+  const double scale = std::sqrt(temperature / granular_temperature(s, box, 0.0));
+  for (auto& v : s.velocity) v *= scale;
+}
+
+}  // namespace
+
+ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index, double rate, double temperature,
+                       std::uint64_t seed) {
+  const std::string& path = input.path();
+  const long long frames = (long long)input.frame_count();
+  if (frame_index < 0) frame_index += frames;
+  if (frame_index < 0 || frame_index >= frames)
+    throw UsageError("'" + path + "' has " + std::to_string(frames) + " frame(s); --frame is out of range");
+  io::Frame frame = input.frame(std::size_t(frame_index));
+  io::GrainProperties properties = input.grains();
+  if (!frame.box.periodic_y)
+    throw UsageError("'" + path + "' is an incline packing (box open in y): use gf-incline");
+  for (auto f : properties.fixed)
+    if (f) throw UsageError("'" + path + "' has fixed grains: simple shear needs a biperiodic packing");
+
+  ShearStart start;
+  start.box = frame.box;
+  start.grains = grains_of(frame, properties);
+  if (at_rest(start.grains)) {
+    start.fresh = true;
+    if (rate != 0) {
+      add_affine_flow(start.grains, start.box, rate);
+    } else {
+      if (!(temperature > 0))
+        throw UsageError("'" + path + "' is at rest: with --rate 0 give --temperature T0 > 0 to start it");
+      thermalise(start.grains, start.box, temperature, seed);
+    }
+    return start;
+  }
+  if (frame.has_contacts) start.contacts = frame.contacts;
+  const double source_rate = input.lees_edwards_rate();
+  if (source_rate != rate) {
+    if (source_rate == 0 || rate == 0)
+      throw UsageError("'" + path + "' was run at rate " + std::to_string(source_rate) +
+                       ": branching to rate " + std::to_string(rate) +
+                       " is only possible between non-zero rates (start from a packing instead)");
+    const double a = rate / source_rate;
+    for (auto& v : start.grains.velocity) v *= a;
+    for (auto& w : start.grains.angular_velocity) w *= a;
+    // Every force column scales as γ̇² (binary forces too); velocities as γ̇.
+    for (auto& f : start.contacts.normal_force) f *= a * a;
+    for (auto& f : start.contacts.tangential_force) f *= a * a;
+    for (auto& f : start.contacts.binary_force) f *= a * a;
+    for (auto& v : start.contacts.pre_normal_velocity) v = {v[0] * a, v[1] * a};
+  }
+  return start;
+}
+
+void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer) {
+  const std::int64_t step = engine.step_count();
+  const double time = engine.time();
+  const StressTensors s = stress(engine.state(), engine.box(), engine.rate(), engine.contacts());
+  const Mat2 total = s.total();
+  writer.append_observable("strain", step, time, engine.rate() * time);
+  writer.append_observable("pressure", step, time, pressure(total));
+  writer.append_observable("shear_stress", step, time, -shear_stress(total));
+  writer.append_observable("normal_stress_difference", step, time, normal_stress_difference(total));
+  writer.append_observable("temperature", step, time,
+                           granular_temperature(engine.state(), engine.box(), engine.rate()));
+  writer.append_observable("stress_kinetic", step, time, s.kinetic);
+  writer.append_observable("stress_static", step, time, s.contact);
+  writer.append_observable("stress_collisional", step, time, s.collisional);
+}
+
+}  // namespace granflow

@@ -1,0 +1,194 @@
+// gf-shear as a user runs it: bad input, and the exactness of checkpoint/resume and of
+// branching from a stored frame (both must reproduce the uninterrupted run bit for bit).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "io/trajectory.hpp"
+#include "programs/run_tool.hpp"
+
+using namespace granflow::testing;
+namespace io = granflow::io;
+
+namespace {
+// One packing shared by the tests of this file.
+const std::string& packing() {
+  static ScratchDir dir("shear_packing");
+  static std::string path = [] {
+    std::string p = dir / "pack.h5";
+    EXPECT_EQ(run_tool("gf-pack", "--grains 200 --packing-fraction 0.7 --seed 3 --quiet -o " + p).exit_code, 0);
+    return p;
+  }();
+  return path;
+}
+
+void expect_same_frame(const io::Frame& a, const io::Frame& b, const std::string& what) {
+  ASSERT_EQ(a.position.size(), b.position.size()) << what;
+  for (std::size_t i = 0; i < a.position.size(); ++i) {
+    ASSERT_EQ(a.position[i], b.position[i]) << what << " grain " << i;
+    ASSERT_EQ(a.velocity[i], b.velocity[i]) << what << " grain " << i;
+    ASSERT_EQ(a.angular_velocity[i], b.angular_velocity[i]) << what << " grain " << i;
+    ASSERT_EQ(a.orientation[i], b.orientation[i]) << what << " grain " << i;
+  }
+  EXPECT_EQ(a.box.offset, b.box.offset) << what;
+  EXPECT_EQ(a.contacts.pair, b.contacts.pair) << what;
+  EXPECT_EQ(a.contacts.normal_force, b.contacts.normal_force) << what;
+  EXPECT_EQ(a.contacts.tangential_force, b.contacts.tangential_force) << what;
+  EXPECT_EQ(a.contacts.age, b.contacts.age) << what;
+}
+
+const std::string kRun = "--rate 0.01 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --frame-every 100 --quiet";
+}  // namespace
+
+TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
+  ScratchDir dir("shear_resume");
+  const std::string steps = " --steps 3000 ";
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
+
+  const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
+  pid_t pid = start_tool("gf-shear", args, dir / "log1");
+  const std::string partial = dir / ".cut.h5.part";
+  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  const int code = wait_exit_code(pid);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "cut.h5")) << "an interrupted run left a finished-looking output";
+  ASSERT_TRUE(std::filesystem::exists(dir / ".cut.h5.checkpoint"));
+  ASSERT_TRUE(std::filesystem::exists(partial));
+
+  auto resumed = run_tool("gf-shear", args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / ".cut.h5.checkpoint"));
+  EXPECT_FALSE(std::filesystem::exists(partial));
+
+  io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
+  ASSERT_EQ(ref.frame_count(), cut.frame_count());
+  for (std::size_t k = 0; k < ref.frame_count(); ++k)
+    expect_same_frame(ref.frame(k), cut.frame(k), "frame " + std::to_string(k));
+  for (const char* name : {"pressure", "shear_stress", "temperature", "solver_iterations"}) {
+    EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
+    EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
+  }
+}
+
+TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
+  ScratchDir dir("shear_resume_other");
+  const std::string args = "-i " + packing() + " --steps 20000 " + kRun + " -o " + (dir / "cut.h5");
+  pid_t pid = start_tool("gf-shear", args, dir / "log");
+  for (int k = 0; k < 200 && !std::filesystem::exists(dir / ".cut.h5.part"); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(pid, SIGTERM);
+  if (wait_exit_code(pid) != 1) GTEST_SKIP() << "the run finished before it could be interrupted";
+  auto r = run_tool("gf-shear", args + " --friction 0.1 --resume");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("other options"), std::string::npos) << r.err;
+}
+
+TEST(GfShearBranch, FromAStoredFrameEqualsTheOriginalRun) {
+  ScratchDir dir("shear_branch");
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 1500 " + kRun + " -o " + (dir / "ref.h5")).exit_code,
+            0);
+  // Frame 5 is step 500; 1000 more steps end where the reference ends.
+  auto r = run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 5 --steps 1000 " + kRun + " -o " +
+                                    (dir / "branch.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader ref(dir / "ref.h5"), branch(dir / "branch.h5");
+  ASSERT_EQ(branch.frame_count(), 11u);
+  for (std::size_t k = 0; k < branch.frame_count(); ++k)
+    expect_same_frame(ref.frame(k + 5), branch.frame(k), "branch frame " + std::to_string(k));
+  auto p_ref = ref.observable_scalar("pressure"), p_branch = branch.observable_scalar("pressure");
+  ASSERT_EQ(p_branch.size(), 1000u);
+  for (std::size_t k = 0; k < p_branch.size(); ++k) ASSERT_EQ(p_branch[k], p_ref[k + 500]) << k;
+}
+
+TEST(GfShearBranch, BagnoldRescalingOnRateChange) {
+  // Branching a run at 100× the rate is the same trajectory played 100× faster:
+  // positions identical step for step up to round-off, stresses ×10⁴.
+  ScratchDir dir("shear_bagnold_branch");
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 300 " + kRun + " -o " + (dir / "ref.h5")).exit_code,
+            0);
+  const std::string common = " --steps 100 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --frame-every 100 --quiet";
+  ASSERT_EQ(run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 0.01" + common + " -o " +
+                                     (dir / "slow.h5")).exit_code, 0);
+  ASSERT_EQ(run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 1" + common + " -o " +
+                                     (dir / "fast.h5")).exit_code, 0);
+  io::TrajectoryReader slow(dir / "slow.h5"), fast(dir / "fast.h5");
+  auto a = slow.frame(1), b = fast.frame(1);
+  double worst = 0;
+  for (std::size_t i = 0; i < a.position.size(); ++i) worst = std::max(worst, (a.position[i] - b.position[i]).norm());
+  EXPECT_LT(worst, 1e-9);
+  auto pa = slow.observable_scalar("pressure"), pb = fast.observable_scalar("pressure");
+  for (std::size_t k = 0; k < pa.size(); ++k) ASSERT_NEAR(pb[k] / 1e4, pa[k], 1e-6 * std::fabs(pa[k])) << k;
+}
+
+// ---- bad input: exit 2, one line naming the problem, no output file left ----
+
+namespace {
+struct Case {
+  const char* name;
+  const char* args;  // {in} = a valid packing, {out} = the output path
+  const char* expected;
+};
+[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+}  // namespace
+
+class GfShearBadInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GfShearBadInput, FailsWithExitTwoOneLineNoOutput) {
+  const Case& c = GetParam();
+  ScratchDir dir(std::string("shear_bad_") + c.name);
+  std::string args = c.args;
+  for (auto [key, value] : {std::pair<std::string, std::string>{"{in}", packing()}, {"{out}", dir / "out.h5"}})
+    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
+  auto r = run_tool("gf-shear", args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, GfShearBadInput,
+    ::testing::Values(Case{"restitution_above_one", "-i {in} -o {out} --restitution 1.5", "--restitution"},
+                      Case{"restitution_negative", "-i {in} -o {out} --restitution -0.1", "--restitution"},
+                      Case{"friction_negative", "-i {in} -o {out} --friction -1", "--friction"},
+                      Case{"dt_zero", "-i {in} -o {out} --dt 0", "--dt"},
+                      Case{"dt_negative", "-i {in} -o {out} --dt -1e-3", "--dt"},
+                      Case{"strain_step_nan", "-i {in} -o {out} --strain-step nan", "--strain-step"},
+                      Case{"rate_nan", "-i {in} -o {out} --rate nan", "--rate"},
+                      Case{"tolerance_zero", "-i {in} -o {out} --tolerance 0", "--tolerance"},
+                      Case{"missing_input_option", "-o {out}", "--input"},
+                      Case{"missing_input_file", "-i {out}.missing -o {out}", "missing"},
+                      Case{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10", "--temperature"},
+                      Case{"frame_out_of_range", "-i {in} -o {out} --frame 4", "--frame"},
+                      Case{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
+    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+
+TEST(GfShearBadInput, BadFiles) {
+  ScratchDir dir("shear_bad_files");
+  ScratchDir out_dir("shear_bad_files_out");
+  const std::string text = dir / "text.h5";
+  std::ofstream(text) << "not hdf5\n";
+  const std::string truncated = dir / "truncated.h5";
+  std::filesystem::copy_file(packing(), truncated);
+  std::filesystem::resize_file(truncated, std::filesystem::file_size(packing()) / 2);
+  const std::string no_grains = dir / "no_grains.h5";
+  io::TrajectoryWriter(no_grains).close();
+  const std::string incline = dir / "incline.h5";
+  ASSERT_EQ(run_tool("gf-pack", "--incline --width 10 --height 5 --quiet -o " + incline).exit_code, 0);
+  for (auto [path, expected] : {std::pair<std::string, std::string>{text, "text.h5"}, {truncated, "truncated.h5"},
+                                {no_grains, "/particles/grains"}, {incline, "gf-incline"}}) {
+    auto r = run_tool("gf-shear", "-i " + path + " -o " + (out_dir / "out.h5"));
+    EXPECT_EQ(r.exit_code, 2) << path << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << path;
+  }
+}
