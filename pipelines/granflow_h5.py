@@ -31,6 +31,10 @@ def atomic_output(path):
 
         @staticmethod
         def commit():
+            # mkstemp creates the file 0600; give it the permissions a plain open() would.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)
             os.replace(tmp, path)
 
         @staticmethod
@@ -39,3 +43,13 @@ def atomic_output(path):
                 os.remove(tmp)
 
     return _Out
+
+
+def save_figure(fig, path, dpi=120):
+    """Save a matplotlib figure to `path` atomically."""
+    out = atomic_output(path)
+    try:
+        fig.savefig(out.name, dpi=dpi, bbox_inches="tight")
+        out.commit()
+    finally:
+        out.abandon()

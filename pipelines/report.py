@@ -1,13 +1,18 @@
 #!/usr/bin/env python3
-"""report.py --size SIZE --output REPORT.md PACKING.h5...: the reproduction summary,
-our numbers beside the thesis' where it gives them. Each chapter adds its section."""
+"""report.py --size SIZE --output REPORT.md [chapter options] PACKING.h5...: the reproduction
+summary, our numbers beside the thesis' where it gives them. Each chapter adds its section."""
 import argparse
+import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "analysis"))
 import h5py
+import numpy as np
 
+import steady_state as ss
 from granflow_h5 import atomic_output
 
 
@@ -24,12 +29,155 @@ def packing_rows(paths):
     return rows
 
 
+def fmt(value, error=None, plateau=1):
+    """value ± error to the error's precision; † marks an error that is only a lower bound."""
+    if error is None or not error > 0:
+        return f"{value:.4g}"
+    last = math.floor(math.log10(error)) - 1  # the error's second significant digit
+    lead = math.floor(math.log10(max(abs(value), error)))
+    if -3 <= lead < 5:
+        d = max(0, -last)
+        text = f"{value:.{d}f} ± {error:.{d}f}"
+    else:
+        d = max(0, lead - last)
+        text = f"({value / 10 ** lead:.{d}f} ± {error / 10 ** lead:.{d}f})e{lead}"
+    return text + ("" if plateau else " †")
+
+
+def cell(table, name, row):
+    st = table["steady"]
+    return fmt(st[name][row], st[name + "_error"][row], st[name + "_plateau"][row])
+
+
+def sigmas(difference, *errors):
+    """A difference in units of its combined standard error."""
+    sigma = math.hypot(*errors)
+    if sigma == 0:
+        return "0" if difference == 0 else "∞"
+    return f"{difference / sigma:+.1f}".replace("-0.0", "+0.0")
+
+
+def quote(text, line):
+    """A thesis sentence as its own Markdown block quote."""
+    return f"> “{text}” (thesis l. {line})\n"
+
+
+def ch4_section(sweep_path, bagnold_path, reference_path):
+    """Chapter 4: steady simple shear beside the statements of thesis §4.2.2."""
+    sweep, bagnold = ss.read_table(sweep_path), ss.read_table(bagnold_path)
+    runs, st = sweep["runs"], sweep["steady"]
+    from_strain = float(sweep["parameters"]["from_strain"])
+    diameter = 2 * runs["mean_radius"]
+    overlap = sweep["diagnostics"]["max_overlap_max"] / diameter
+    worst = int(np.argmax(overlap))
+    lines = ["", "## Chapter 4: simple shear (thesis §4.2.2, Figs 4.1–4.6)", "",
+             f"Tables `{sweep_path}` (ν × e sweep) and `{bagnold_path}` (Fig 4.2), from "
+             f"`pipelines/analysis/steady_state.py`: N = {runs['grains'][0]}, total strain {runs['strain'][0]:g}, "
+             f"strain step γ̇dt = {runs['strain_step'][0]:g}; steady values average the recorded rows with strain ≥ "
+             f"{from_strain:g}. ± is the {sweep['parameters']['error_method']}; † marks an error that is only "
+             "a lower bound (no blocking plateau: the run is short for its correlation time). "
+             f"Largest overlap in the steady parts: {overlap[worst]:.2e} "
+             f"mean diameters (`{os.path.basename(runs['input'][worst])}`); mean solver iterations per step "
+             f"{sweep['diagnostics']['solver_iterations_mean'].min():.3g}–"
+             f"{sweep['diagnostics']['solver_iterations_mean'].max():.3g}.", ""]
+
+    # Fig 4.2: Bagnold scaling.
+    rows = np.argsort(bagnold["runs"]["rate"])
+    lines += ["### Bagnold scaling (Fig 4.2)", "",
+              quote("Although the shear rates in the plots differ by a factor of 10^4, the normalized pressure "
+                    "is virtually identical for both systems.", "362–369"),
+              quote("The invariance in Newton's equations also predicts that sγ̇⁻² and Tγ̇⁻² are independent "
+                    "of γ̇. For all of the simulations we have carried out these predictions from the invariance "
+                    "are upheld", "371"),
+              f"Ours, ν = {bagnold['runs']['packing_fraction'][rows[0]]:.3f}, e = "
+              f"{bagnold['runs']['restitution'][rows[0]]:g}, μ = {bagnold['runs']['friction'][rows[0]]:g}, "
+              "same packing and strain step (dt ∝ 1/γ̇):", "",
+              "| quantity | " + " | ".join(f"γ̇ = {r:g}" for r in bagnold["runs"]["rate"][rows])
+              + " | (last − first)/σ |",
+              "|---|" + "---|" * len(rows) + "---|"]
+    bst = bagnold["steady"]
+    for name, label in (("pressure_scaled", "p/(γ̇²m)"), ("shear_stress_scaled", "s/(γ̇²m)"),
+                        ("temperature_scaled", "T/(γ̇²⟨R⟩²)")):
+        a, b = rows[0], rows[-1]
+        lines.append(f"| {label} | " + " | ".join(cell(bagnold, name, r) for r in rows)
+                     + f" | {sigmas(bst[name][b] - bst[name][a], bst[name + '_error'][a], bst[name + '_error'][b])} |")
+
+    # Fig 4.3: transient and fluctuations of the invariants.
+    run = ss.read_run(reference_path)
+    end = float(run["series"]["strain"][-1])
+    middle = 0.5 * (from_strain + end)
+    first, second = ss.steady_values(run, from_strain, middle)[0], ss.steady_values(run, middle)[0]
+    inst = ss.invariant_series(run)
+    steady = run["series"]["strain"] >= from_strain
+    lines += ["", "### Steady state and fluctuations (Fig 4.3)", "",
+              quote("For all quantities, steady flow is reached by a shear of approximately 0.5", "377"),
+              quote("the values of s/p and mT/p⟨R⟩² fluctuate much more than γ̇⟨R⟩/√T", "377"),
+              f"Ours (`{os.path.basename(reference_path)}`): the steady part split in two halves — equal means "
+              "(|difference| of a few σ at most) say the transient is over by strain "
+              f"{from_strain:g}; relative fluctuation = standard deviation / mean of the per-step values.", "",
+              f"| invariant | strain {from_strain:g}–{middle:.3g} | {middle:.3g}–{end:.3g} | difference/σ "
+              "| relative fluctuation |", "|---|---|---|---|---|"]
+    for name, label in (("s_over_p", "s/p"), ("rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"),
+                        ("mT_over_pR2", "mT/(p⟨R⟩²)")):
+        (a, ea, pa), (b, eb, pb) = first[name], second[name]
+        x = inst[name][steady]
+        lines.append(f"| {label} | {fmt(a, ea, pa)} | {fmt(b, eb, pb)} | {sigmas(b - a, ea, eb)} "
+                     f"| {np.nanstd(x) / abs(np.nanmean(x)):.3g} |")
+
+    # Figs 4.4 and 4.5: e = 0, μ = 0 against ν.
+    zero = ss.select(sweep, restitution=0.0, friction=0.0)
+    lines += ["", "### Steady rheology against ν, e = 0, μ = 0 (Figs 4.4, 4.5)", "",
+              quote("for packing fractions larger than 0.75 there is a large increase in the values of the stresses "
+                    "and granular temperature", "384"),
+              quote("Both the shear stress and pressure are seen to diverge at a finite packing fraction", "386"),
+              quote("Previous research [71, 27] has shown that N_1 ∼ 10^-2.", "358"),
+              quote("We see that the static part of the pressure becomes larger than the kinetic part for ν > 0.4.",
+                    "404"),
+              "| ν | p/(γ̇²m) | s/(γ̇²m) | T/(γ̇²⟨R⟩²) | s/p | N₁ | pˢ/(γ̇²m) | pᵏ/(γ̇²m) |",
+              "|---|---|---|---|---|---|---|---|"]
+    for r in zero:
+        lines.append(f"| {runs['packing_fraction'][r]:.3f} | " + " | ".join(
+            cell(sweep, name, r) for name in ("pressure_scaled", "shear_stress_scaled", "temperature_scaled",
+                                              "s_over_p", "normal_stress_difference", "pressure_static_scaled",
+                                              "pressure_kinetic_scaled")) + " |")
+    n1 = np.abs(st["normal_stress_difference"])
+    static_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] > st["pressure_kinetic"][r]]
+    kinetic_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] <= st["pressure_kinetic"][r]]
+    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} runs of the sweep (every e). "
+              f"pˢ > pᵏ at ν = {', '.join(f'{v:.3f}' for v in static_wins) or 'none'}; "
+              f"pˢ ≤ pᵏ at ν = {', '.join(f'{v:.3f}' for v in kinetic_wins) or 'none'}."]
+
+    # Fig 4.6: static pressure against ν for every e.
+    frictionless = ss.select(sweep, friction=0.0)
+    es = np.unique(runs["restitution"][frictionless])
+    lines += ["", "### Static pressure for several e, μ = 0 (Fig 4.6)", "",
+              quote("For large packing fractions the pressures become independent of e.", "408"),
+              quote("At low values of packing fraction the dynamics becomes less linked to geometric constraints and "
+                    "there is a large variance with e.", "408"),
+              "| ν | " + " | ".join(f"pˢ/(γ̇²m), e = {e:g}" for e in es) + " | max/min over e |",
+              "|---|" + "---|" * len(es) + "---|"]
+    for nu in np.unique(runs["packing_fraction"][frictionless]):
+        cells, values = [], []
+        for e in es:
+            r = ss.select(sweep, friction=0.0, restitution=e, packing_fraction=nu)
+            cells.append(cell(sweep, "pressure_static_scaled", r[0]) if len(r) else "–")
+            values += [st["pressure_static_scaled"][r[0]]] if len(r) else []
+        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + f" | {max(values) / min(values):.3g} |")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", required=True)
     ap.add_argument("--output", required=True)
+    ap.add_argument("--ch4-sweep", help="steady_state.py table of the ν × e sweep (Figs 4.4-4.6)")
+    ap.add_argument("--ch4-bagnold", help="steady_state.py table of the Fig 4.2 runs")
+    ap.add_argument("--ch4-reference", help="the Fig 4.3 run")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
+    ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
+    if any(ch4) and not all(ch4):
+        ap.error("--ch4-sweep, --ch4-bagnold and --ch4-reference go together")
     lines = [f"# granflow reproduction report (SIZE={args.size})", "",
              "Generated by `make -f Makefile.sweeps`; every number below is read from the run files named.", "",
              "## Packings (thesis App. A.3)", "",
@@ -37,6 +185,8 @@ def main():
              "|---|---|---|---|---|---|---|"]
     for name, n, nu, got, ov, sec, seed in packing_rows(args.packings):
         lines.append(f"| {name} | {n} | {nu:.3f} | {got:.12f} | {ov:.2e} | {sec:.2f} | {seed} |")
+    if all(ch4):
+        lines += ch4_section(*ch4)
     out = atomic_output(args.output)
     try:
         with open(out.name, "w") as fh:

@@ -160,6 +160,9 @@ class TrajectoryReader {
   Box box(std::size_t frame) const;
   // Reads only frame k, with its contacts when the file has them (has_contacts).
   Frame frame(std::size_t k) const;
+  // A --frame option's value as an index: negative counts from the end (−1 = last);
+  // UsageError naming the file and the frame count if out of range.
+  std::size_t frame_index(long long k) const;
   std::vector<std::int64_t> frame_steps() const;
   std::vector<double> frame_times() const;
   bool has_contacts() const;

@@ -215,6 +215,15 @@ std::vector<double> TrajectoryReader::frame_times() const {
   return as_usage_error([&] { return impl_->read<double>(schema::kPosition + "/time"); });
 }
 
+std::size_t TrajectoryReader::frame_index(long long k) const {
+  const long long frames = (long long)frame_count();
+  const long long index = k < 0 ? k + frames : k;
+  if (index < 0 || index >= frames)
+    throw UsageError("'" + impl_->path + "' has " + std::to_string(frames) + " frame(s); --frame " +
+                     std::to_string(k) + " is out of range");
+  return std::size_t(index);
+}
+
 Parameters TrajectoryReader::parameters() const { return attributes(schema::kParameters); }
 
 Parameters TrajectoryReader::attributes(const std::string& group_path) const {

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
 
 namespace granflow {
 
@@ -34,11 +33,7 @@ void write_packing(const std::string& path, const Packing& packing, const io::Pa
 
 Packing read_packing(const std::string& path, long long frame_index) {
   io::TrajectoryReader reader(path);
-  const long long frames = (long long)reader.frame_count();
-  if (frame_index < 0) frame_index += frames;
-  if (frame_index < 0 || frame_index >= frames)
-    throw UsageError("'" + path + "' has " + std::to_string(frames) + " frame(s); --frame is out of range");
-  io::Frame frame = reader.frame(std::size_t(frame_index));
+  io::Frame frame = reader.frame(reader.frame_index(frame_index));
   io::GrainProperties grains = reader.grains();
   Packing p;
   p.box = frame.box;

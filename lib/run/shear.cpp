@@ -37,11 +37,7 @@ void thermalise(GrainState& s, const Box& box, double temperature, std::uint64_t
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index, double rate, double temperature,
                        std::uint64_t seed) {
   const std::string& path = input.path();
-  const long long frames = (long long)input.frame_count();
-  if (frame_index < 0) frame_index += frames;
-  if (frame_index < 0 || frame_index >= frames)
-    throw UsageError("'" + path + "' has " + std::to_string(frames) + " frame(s); --frame is out of range");
-  io::Frame frame = input.frame(std::size_t(frame_index));
+  io::Frame frame = input.frame(input.frame_index(frame_index));
   io::GrainProperties properties = input.grains();
   if (!frame.box.periodic_y)
     throw UsageError("'" + path + "' is an incline packing (box open in y): use gf-incline");

@@ -1,0 +1,299 @@
+#!/usr/bin/env python3
+"""steady_state.py [--from-strain S] --output TABLE.h5 RUN.h5...: steady-state averages of
+gf-shear trajectories (thesis §4.2.2, Figs 4.2-4.6), one row per run.
+
+Averages. gf-shear records every observable at a constant strain interval (every step
+by default), so a steady value is the plain mean over the rows with strain >=
+--from-strain (default 0.5: the thesis finds steady flow "by a shear of approximately
+0.5", line 377). Ratios and
+the dimensionless groups are ratios of means (p, s, T are means first, then combined),
+never means of instantaneous ratios, which large force fluctuations would bias.
+
+Error bars: the standard error of the mean from Flyvbjerg-Petersen blocking
+(J. Chem. Phys. 91, 461 (1989)): the series is repeatedly replaced by the means of
+neighbouring pairs; the variance of the block means divided by (blocks - 1) grows with
+the block length until blocks are longer than the correlation time, then stays flat.
+The plateau is found automatically with Jonsson's test (Phys. Rev. E 98, 043304
+(2018)): the first level from which the lag-1 autocorrelations of all further levels
+are compatible with zero (chi-squared test at 99 %); the error is read one level
+higher (blocks twice as long), which halves the bias left by the residual correlation
+at the first level. On AR(1) series the result is low by at most 15 % when the steady
+part spans 50 integrated correlation times, 10 % at 100 and 3 % beyond 1000. Errors
+are read only from levels with at least 16 blocks; when no such level passes the
+test, the estimate of the longest such blocks is kept and flagged (<name>_plateau = 0):
+it is then a lower bound, and the run is too short for its correlation time.
+Errors of ratios and of the dimensionless groups come from the same blocking applied
+to their linearisation Q * sum_k a_k (x_k(t) - <x_k>)/<x_k> for Q = c * prod_k <x_k>^a_k,
+which keeps the correlations between numerator and denominator.
+
+Output (HDF5, written atomically): /parameters (program, script_sha256, command_line,
+from_strain, error_method); /runs/<column> [rows] with the run's input path and SHA-256,
+packing_fraction, restitution, tangential_restitution, friction, rate, strain_step,
+strain, dt, grains, seed, mean_radius, mean_mass, samples; /steady/<name>,
+/steady/<name>_error, /steady/<name>_plateau [rows] for every name of QUANTITIES;
+/diagnostics/{solver_iterations_mean, solver_residual_max, max_overlap_max} over the
+steady part. Steady and diagnostic datasets carry `meaning` and `units` attributes; run
+columns name the gf-shear parameter they copy.
+"""
+import argparse
+import hashlib
+import math
+import os
+import shlex
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import h5py
+import numpy as np
+
+from granflow_h5 import atomic_output
+
+ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
+                "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
+                "blocking their linearisation")
+MIN_SAMPLES = 32  # steady rows a run must have
+MIN_BLOCKS = 16  # fewest blocks an error is read from (its relative uncertainty is then ~18 %)
+STRESS = "mass/time^2 (2D stress, code units)"
+
+# Series read from /observables (scalar ones by name; tensors reduced to a pressure).
+SCALAR_OBSERVABLES = ("strain", "pressure", "shear_stress", "normal_stress_difference", "temperature",
+                      "solver_iterations", "solver_residual", "max_overlap")
+PRESSURE_PARTS = {"pressure_kinetic": "stress_kinetic", "pressure_static": "stress_static",
+                  "pressure_collisional": "stress_collisional"}
+# Run columns: table name -> /parameters attribute of gf-shear (contract: CLI names + derived).
+RUN_COLUMNS = {"packing_fraction": "packing_fraction", "restitution": "restitution",
+               "tangential_restitution": "tangential-restitution", "friction": "friction", "rate": "rate",
+               "strain_step": "strain-step", "strain": "strain", "dt": "dt", "grains": "grains",
+               "seed": "seed", "mean_radius": "mean_radius", "mean_mass": "mean_mass"}
+
+
+def _rate2_mass(p):
+    return 1.0 / (p["rate"] ** 2 * p["mean_mass"])
+
+
+# name -> (meaning, units, constant factor c(parameters), {series: power}): Q = c * prod <x>^a.
+QUANTITIES = {
+    "pressure": ("p = (Σxx+Σyy)/2, total", STRESS, lambda p: 1.0, {"pressure": 1}),
+    "shear_stress": ("s = -Σxy", STRESS, lambda p: 1.0, {"shear_stress": 1}),
+    "temperature": ("T of eq. 4.5", "velocity^2", lambda p: 1.0, {"temperature": 1}),
+    "pressure_kinetic": ("p^k: half trace of the kinetic stress (first term of eq. 4.6)", STRESS,
+                         lambda p: 1.0, {"pressure_kinetic": 1}),
+    "pressure_static": ("p^s: half trace of the static (contact) stress (second term of eq. 4.6)", STRESS,
+                        lambda p: 1.0, {"pressure_static": 1}),
+    "pressure_collisional": ("half trace of the collisional stress", STRESS,
+                             lambda p: 1.0, {"pressure_collisional": 1}),
+    "normal_stress_difference": ("N1 = <(Σxx-Σyy)/2> / <p>", "1", lambda p: 1.0,
+                                 {"stress_half_difference": 1, "pressure": -1}),
+    "pressure_scaled": ("p/(γ̇² m), Fig 4.4 left", "1", _rate2_mass, {"pressure": 1}),
+    "shear_stress_scaled": ("s/(γ̇² m), Fig 4.4 left", "1", _rate2_mass, {"shear_stress": 1}),
+    "temperature_scaled": ("T/(γ̇² <R>²), Fig 4.4 right", "1",
+                           lambda p: 1.0 / (p["rate"] * p["mean_radius"]) ** 2, {"temperature": 1}),
+    "pressure_kinetic_scaled": ("p^k/(γ̇² m), Fig 4.5", "1", _rate2_mass, {"pressure_kinetic": 1}),
+    "pressure_static_scaled": ("p^s/(γ̇² m), Figs 4.5, 4.6", "1", _rate2_mass, {"pressure_static": 1}),
+    "pressure_collisional_scaled": ("collisional pressure/(γ̇² m)", "1", _rate2_mass,
+                                    {"pressure_collisional": 1}),
+    "s_over_p": ("s/p, Figs 4.3, 4.4 right", "1", lambda p: 1.0, {"shear_stress": 1, "pressure": -1}),
+    "rate_R_over_sqrt_T": ("γ̇<R>/√T, Fig 4.3", "1", lambda p: p["rate"] * p["mean_radius"],
+                           {"temperature": -0.5}),
+    "mT_over_pR2": ("m T/(p <R>²), Fig 4.3", "1", lambda p: p["mean_mass"] / p["mean_radius"] ** 2,
+                    {"temperature": 1, "pressure": -1}),
+}
+DIAGNOSTICS = {"solver_iterations_mean": ("mean solver iterations per step", "1"),
+               "solver_residual_max": ("largest solver residual", "velocity (code units)"),
+               "max_overlap_max": ("largest overlap", "length (code units)")}
+
+
+def _text(v):
+    return v.decode() if isinstance(v, bytes) else v
+
+
+def read_run(path):
+    """Parameters (the run columns) and recorded series of one gf-shear trajectory."""
+    with h5py.File(path, "r") as f:
+        attrs = f["/parameters"].attrs
+        missing = [a for a in RUN_COLUMNS.values() if a not in attrs]
+        if missing:
+            raise ValueError(f"/parameters lacks {', '.join(missing)}")
+        params = {col: (int if col in ("grains", "seed") else float)(attrs[a]) for col, a in RUN_COLUMNS.items()}
+        obs = f["/observables"]
+        series = {name: obs[name]["value"][...].astype(float) for name in SCALAR_OBSERVABLES}
+        for name, tensor in PRESSURE_PARTS.items():
+            v = obs[tensor]["value"][...]
+            series[name] = 0.5 * (v[:, 0, 0] + v[:, 1, 1])
+    lengths = {len(v) for v in series.values()}
+    if len(lengths) != 1:
+        raise ValueError(f"observables have different lengths {sorted(lengths)}")
+    # N1 = (Σxx - Σyy)/2p per step, so N1·p recovers (Σxx - Σyy)/2 for a ratio of means.
+    series["stress_half_difference"] = series["normal_stress_difference"] * series["pressure"]
+    return {"parameters": params, "series": series}
+
+
+def invariant_series(run):
+    """Instantaneous s/p, γ̇<R>/√T and mT/(p<R>²) per step (Fig 4.3); NaN where T or p is 0."""
+    s, p, t = (run["series"][k] for k in ("shear_stress", "pressure", "temperature"))
+    prm = run["parameters"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"s_over_p": np.where(p > 0, s / p, np.nan),
+                "rate_R_over_sqrt_T": np.where(t > 0, prm["rate"] * prm["mean_radius"] / np.sqrt(t), np.nan),
+                "mT_over_pR2": np.where(p > 0, prm["mean_mass"] * t / (p * prm["mean_radius"] ** 2), np.nan)}
+
+
+def _chi2_99(dof):
+    """99 % quantile of chi-squared (Wilson-Hilferty; within 1 % for dof >= 1)."""
+    z = 2.3263478740408408
+    return dof * (1 - 2 / (9 * dof) + z * math.sqrt(2 / (9 * dof))) ** 3
+
+
+def blocking_error(x):
+    """(standard error of mean(x), blocks at the chosen level, plateau found) by
+    Flyvbjerg-Petersen blocking with Jonsson's automatic choice of the level."""
+    x = np.asarray(x, dtype=float)
+    if len(x) < MIN_SAMPLES:
+        raise ValueError(f"blocking needs at least {MIN_SAMPLES} samples, got {len(x)}")
+    se2, n, stat = [], [], []
+    while len(x) >= 2:
+        if len(x) % 2:
+            x = x[1:]  # drop the oldest sample so the pairs stay aligned
+        m = len(x)
+        d = x - x.mean()
+        var = np.mean(d * d)
+        se2.append(var / (m - 1))
+        n.append(m)
+        # Jonsson's statistic for this level: m * (bias-corrected lag-1 autocorrelation)^2.
+        stat.append(0.0 if var == 0 else m * ((m - 1) * var / m ** 2 + np.mean(d[:-1] * d[1:])) ** 2 / var ** 2)
+        x = 0.5 * (x[0::2] + x[1::2])
+    levels = len(se2)
+    tail = np.cumsum(stat[::-1])[::-1]  # M_j = sum over levels k >= j
+    usable = max(j for j in range(levels) if n[j] >= MIN_BLOCKS)
+    for j in range(usable + 1):
+        if tail[j] < _chi2_99(levels - j):
+            j = min(j + 1, usable)  # blocks twice as long: halves the residual correlation bias
+            return math.sqrt(se2[j]), n[j], True
+    return math.sqrt(se2[usable]), n[usable], False
+
+
+def estimate(series, parameters, factor, powers):
+    """Q = factor * prod <x_k>^a_k over the given series and its blocking error."""
+    c = factor(parameters)
+    means = {k: float(np.mean(series[k])) for k in powers}
+    q = c * math.prod(means[k] ** a for k, a in powers.items())
+    # Linearisation: sum_k dQ/d<x_k> * x_k(t) (a constant shift leaves the error unchanged).
+    lin = sum(c * a * means[k] ** (a - 1) * math.prod(means[j] ** b for j, b in powers.items() if j != k)
+              * series[k] for k, a in powers.items())
+    err, _, plateau = blocking_error(lin)
+    return q, err, plateau
+
+
+def steady_values(run, from_strain, to_strain=math.inf):
+    """({name: (value, error, plateau)} for every QUANTITIES entry, diagnostics, rows used)
+    over the rows with from_strain <= strain < to_strain."""
+    strain = run["series"]["strain"]
+    keep = (strain >= from_strain) & (strain < to_strain)
+    n = int(keep.sum())
+    if n < MIN_SAMPLES:
+        window = f"strain >= {from_strain}" + (f" and < {to_strain:g}" if to_strain < math.inf else "")
+        raise ValueError(f"only {n} rows at {window} (need {MIN_SAMPLES}); run longer or lower --from-strain")
+    steady = {k: v[keep] for k, v in run["series"].items()}
+    bad = [k for k, v in steady.items() if not np.all(np.isfinite(v))]
+    if bad:
+        raise ValueError(f"non-finite values in the steady part of {', '.join(bad)}")
+    values = {name: estimate(steady, run["parameters"], c, powers)
+              for name, (_, _, c, powers) in QUANTITIES.items()}
+    diagnostics = {"solver_iterations_mean": float(np.mean(steady["solver_iterations"])),
+                   "solver_residual_max": float(np.max(steady["solver_residual"])),
+                   "max_overlap_max": float(np.max(steady["max_overlap"]))}
+    return values, diagnostics, n
+
+
+def sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def analyse(paths, from_strain):
+    """One row per run: (path, sha256, parameters, steady values, diagnostics, samples)."""
+    rows = []
+    for path in paths:
+        try:
+            run = read_run(path)
+            values, diagnostics, n = steady_values(run, from_strain)
+        except (OSError, KeyError, ValueError, ZeroDivisionError) as exc:
+            raise ValueError(f"{path}: {exc}") from exc
+        rows.append((path, sha256(path), run["parameters"], values, diagnostics, n))
+    return rows
+
+
+def write_table(output, rows, from_strain, command_line):
+    """Write the rows of analyse() as the table, atomically."""
+    script = os.path.abspath(__file__)
+    out = atomic_output(output)
+    try:
+        with h5py.File(out.name, "w") as f:
+            prm = f.create_group("parameters")
+            prm.attrs.update({"program": os.path.basename(script), "script_sha256": sha256(script),
+                              "command_line": command_line, "from_strain": from_strain,
+                              "error_method": ERROR_METHOD})
+            text = h5py.string_dtype()
+            runs = f.create_group("runs")
+            runs.create_dataset("input", data=np.array([r[0] for r in rows], dtype=object), dtype=text)
+            runs.create_dataset("input_sha256", data=np.array([r[1] for r in rows], dtype=object), dtype=text)
+            for col, attr in RUN_COLUMNS.items():
+                ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
+                ds.attrs["meaning"] = f"the run's /parameters attribute '{attr}'"
+            runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
+            runs["samples"].attrs["meaning"] = f"observable rows averaged (strain >= {from_strain})"
+            steady = f.create_group("steady")
+            for name, (meaning, units, _, _) in QUANTITIES.items():
+                for suffix, col, what in (("", 0, "steady-state value"), ("_error", 1, ERROR_METHOD),
+                                          ("_plateau", 2, "1 if blocking reached a plateau, else the error "
+                                                          "is a lower bound")):
+                    ds = steady.create_dataset(name + suffix, data=np.array([r[3][name][col] for r in rows],
+                                                                            dtype=np.uint8 if col == 2 else float))
+                    ds.attrs.update({"meaning": f"{meaning}: {what}", "units": units if col < 2 else "1"})
+            diag = f.create_group("diagnostics")
+            for name, (meaning, units) in DIAGNOSTICS.items():
+                ds = diag.create_dataset(name, data=np.array([r[4][name] for r in rows]))
+                ds.attrs.update({"meaning": meaning + " over the steady part", "units": units})
+        out.commit()
+    finally:
+        out.abandon()
+
+
+def read_table(path):
+    """A steady-state table: {"runs": {column: array}, "steady": {name: array},
+    "diagnostics": {name: array}, "parameters": {attribute: value}}."""
+    with h5py.File(path, "r") as f:
+        table = {g: {k: (np.array([_text(v) for v in ds[...]]) if ds.dtype.kind == "O" else ds[...])
+                     for k, ds in f[g].items()} for g in ("runs", "steady", "diagnostics")}
+        table["parameters"] = {k: _text(v) for k, v in f["parameters"].attrs.items()}
+    return table
+
+
+def select(table, **columns):
+    """Indices of the rows whose run columns equal the given values, by increasing packing fraction."""
+    keep = np.ones(len(table["runs"]["packing_fraction"]), dtype=bool)
+    for col, value in columns.items():
+        keep &= np.isclose(table["runs"][col], value, rtol=0, atol=1e-12)
+    idx = np.flatnonzero(keep)
+    return idx[np.argsort(table["runs"]["packing_fraction"][idx], kind="stable")]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--from-strain", type=float, default=0.5, help="skip the transient before this strain (0.5)")
+    ap.add_argument("-o", "--output", required=True)
+    ap.add_argument("runs", nargs="+", help="gf-shear trajectories")
+    args = ap.parse_args()
+    try:
+        rows = analyse(args.runs, args.from_strain)
+    except ValueError as exc:  # bad input: exit 2, like the gf-* programs
+        print(f"steady_state.py: {exc}", file=sys.stderr)
+        sys.exit(2)
+    write_table(args.output, rows, args.from_strain, shlex.join(sys.argv))
+
+
+if __name__ == "__main__":
+    main()
