@@ -173,6 +173,10 @@ template void write_dataset<double>(hid_t, const std::string&, const std::vector
                                     const double*);
 template void write_dataset<std::uint8_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
                                           const std::uint8_t*);
+template void write_dataset<std::int32_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
+                                          const std::int32_t*);
+template void write_dataset<std::int64_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
+                                          const std::int64_t*);
 
 void read_rows(hid_t dataset, hsize_t first, hsize_t count, hid_t mem_type, void* out) {
   std::vector<hsize_t> dims = shape(dataset);

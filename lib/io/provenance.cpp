@@ -24,10 +24,10 @@ Parameters provenance(const CommandLine& cli) {
   return p;
 }
 
-void add_input(Parameters& parameters, const std::string& path, int index) {
-  std::string key = index == 0 ? "input" : "input_" + std::to_string(index);
-  parameters.set(key, path);
-  parameters.set(key + "_sha256", sha256_file(path));
+void add_input(Parameters& parameters, const std::string& path, int index, const std::string& key) {
+  const std::string name = index == 0 ? key : key + "_" + std::to_string(index);
+  parameters.set(name, path);
+  parameters.set(name + "_sha256", sha256_file(path));
 }
 
 }  // namespace granflow::io

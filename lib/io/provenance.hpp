@@ -14,7 +14,8 @@ namespace granflow::io {
 Parameters provenance(const CommandLine& cli);
 
 // Records an input file: input (path) and input_sha256; the k-th extra input of a
-// multi-input program goes to input_<k> and input_<k>_sha256.
-void add_input(Parameters& parameters, const std::string& path, int index = 0);
+// multi-input program goes to input_<k> and input_<k>_sha256. Inputs of another role
+// take another key (e.g. "reference": reference, reference_1, ...).
+void add_input(Parameters& parameters, const std::string& path, int index = 0, const std::string& key = "input");
 
 }  // namespace granflow::io

@@ -1,0 +1,271 @@
+#include "correlation/analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <numeric>
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "core/signals.hpp"
+#include "correlation/clusters.hpp"
+#include "correlation/jackknife.hpp"
+
+namespace granflow::correlation {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Strain of every stored frame, from /observables/strain: linear in the step between the
+// rows around the frame's step, and extended linearly beyond the first and last rows
+// (the strain grows linearly with the step at constant rate).
+std::vector<double> frame_strains(const io::TrajectoryReader& reader) {
+  const std::vector<std::int64_t> steps = reader.observable_step("strain");
+  const std::vector<double> strain = reader.observable_scalar("strain");
+  if (steps.empty() || steps.size() != strain.size())
+    throw UsageError("'" + reader.path() + "': /observables/strain is empty or its step and value differ in length");
+  std::vector<double> out;
+  for (std::int64_t s : reader.frame_steps()) {
+    if (steps.size() == 1) {
+      out.push_back(steps[0] != 0 ? strain[0] * double(s) / double(steps[0]) : strain[0]);
+      continue;
+    }
+    const auto at = std::lower_bound(steps.begin(), steps.end(), s);
+    const std::size_t hi = std::clamp<std::size_t>(std::size_t(at - steps.begin()), 1, steps.size() - 1);
+    const std::size_t lo = hi - 1;
+    const double t = double(s - steps[lo]) / double(steps[hi] - steps[lo]);
+    out.push_back(strain[lo] + t * (strain[hi] - strain[lo]));
+  }
+  return out;
+}
+
+PairSums total_of(const std::vector<PairSums>& blocks, const LagGrid& grid) {
+  PairSums total(grid);
+  for (const auto& b : blocks) total += b;
+  return total;
+}
+
+struct RunSums {
+  std::vector<PairSums> blocks;
+  std::vector<double> map;  // empty when not wanted
+  BlockSamples normal, binary;
+  std::size_t contacts = 0;
+};
+
+// One pass over the run's frames: pair sums per block, the map, and the forces.
+RunSums accumulate_run(const Run& run, const Correlator& correlator, int blocks, bool full,
+                       const std::function<void()>& done) {
+  const LagGrid& grid = correlator.grid();
+  const std::size_t frames = run.frames.size();
+  const std::size_t block_count = std::min<std::size_t>(std::size_t(blocks), frames);
+  RunSums s;
+  s.blocks.assign(block_count, PairSums(grid));
+  if (full) {
+    s.map.assign(std::size_t(grid.map_side()) * std::size_t(grid.map_side()), 0.0);
+    s.normal.resize(block_count);
+    s.binary.resize(block_count);
+  }
+  for (std::size_t n = 0; n < frames; ++n) {
+    check_interrupt();
+    const std::size_t k = run.frames[n], b = n * block_count / frames;
+    const io::Frame frame = run.reader.frame(k);
+    LoadedGrains grains;
+    try {
+      grains = loaded_grains(frame);
+    } catch (const UsageError& e) {
+      throw UsageError("'" + run.path + "' frame " + std::to_string(k) + ": " + e.what());
+    }
+    correlator.accumulate(grains, s.blocks[b], s.map);
+    s.contacts += frame.contacts.size();
+    if (full) {
+      s.normal[b].insert(s.normal[b].end(), frame.contacts.normal_force.begin(), frame.contacts.normal_force.end());
+      s.binary[b].insert(s.binary[b].end(), frame.contacts.binary_force.begin(), frame.contacts.binary_force.end());
+    }
+    done();
+  }
+  if (!(total_of(s.blocks, grid).norm > 0))
+    throw UsageError("'" + run.path + "': no contact forces in the " + std::to_string(frames) +
+                     " frame(s) at strain >= " + number(run.first_strain));
+  return s;
+}
+
+double xi_error_of(const std::vector<PairSums>& blocks) {
+  return jackknife_errors(blocks, [](const PairSums& s) { return std::vector<double>{correlation_length(s)}; })[0];
+}
+
+RunResult summarise(const RunSums& s, const LagGrid& grid, const Settings& settings, std::uint64_t seed) {
+  RunResult r;
+  const PairSums total = total_of(s.blocks, grid);
+  r.blocks = int(s.blocks.size());
+  r.contacts = s.contacts;
+  r.c = isotropic_correlation(total, grid);
+  r.c_error = jackknife_errors(s.blocks, [&](const PairSums& x) { return isotropic_correlation(x, grid); });
+  r.xi = correlation_length(total);
+  r.xi_error = xi_error_of(s.blocks);
+  r.xi_truncated = truncated_correlation_length(total);
+  r.xi_theta = angular_correlation_length(total, grid);
+  r.xi_theta_error = jackknife_errors(s.blocks, [&](const PairSums& x) { return angular_correlation_length(x, grid); });
+  r.fit = fit_anisotropy(sector_centres(grid), r.xi_theta, r.xi_theta_error, r.xi, grid.sector_width());
+  r.map = correlation_map(s.map, total.norm, grid);
+  r.normal = force_distribution(s.normal, settings.force_bin_width, settings.force_max);
+  r.binary = force_distribution(s.binary, settings.force_bin_width, settings.force_max);
+  r.peak = decide_peak(s.normal, settings.kde_bandwidth, settings.force_max, settings.bootstrap, seed);
+  return r;
+}
+
+Clusters clusters_of(const Run& run, int window, long long frame) {
+  Clusters c;
+  c.last_frame = run.reader.frame_index(frame);
+  c.first_frame = c.last_frame + 1 - std::size_t(window);
+  std::vector<std::array<std::int32_t, 2>> pairs;
+  io::Frame last;
+  for (std::size_t k = c.first_frame; k <= c.last_frame; ++k) {
+    io::Frame f = run.reader.frame(k);
+    pairs.insert(pairs.end(), f.contacts.pair.begin(), f.contacts.pair.end());
+    if (k == c.first_frame) c.first_step = f.step;
+    if (k == c.last_frame) last = std::move(f);
+  }
+  try {
+    c.label = contact_clusters(run.grains, pairs);
+  } catch (const UsageError& e) {
+    throw UsageError("'" + run.path + "' frames " + std::to_string(c.first_frame) + "-" +
+                     std::to_string(c.last_frame) + ": " + e.what());
+  }
+  c.last_step = last.step;
+  c.position = last.position;
+  c.box = last.box;
+  c.count = c.label.empty() ? 0 : *std::max_element(c.label.begin(), c.label.end());
+  return c;
+}
+
+}  // namespace
+
+Run open_run(const std::string& path, double from_strain) {
+  Run run{path, io::TrajectoryReader(path)};
+  const io::TrajectoryReader& reader = run.reader;
+  const io::Parameters p = reader.parameters();
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  if (p.has("program") && p.get_string("program") == "gf-pack")
+    throw bad("is a packing (made by gf-pack), not a trajectory; shear it with gf-shear first");
+  if (!reader.has_contacts()) throw bad("no contacts stored (no /contacts group): not a gf-shear trajectory");
+  if (!reader.has_observable("strain")) throw bad("no /observables/strain: not a gf-shear trajectory");
+  const Box box = reader.box(0);
+  if (!box.periodic_y) throw bad("the box is open in y (an incline run); gf-correlate needs a Lees-Edwards shear run");
+
+  run.packing_fraction = p.get_double("packing_fraction");
+  run.restitution = p.get_double("restitution");
+  run.friction = p.get_double("friction");
+  run.tangential_restitution = p.has("tangential-restitution") ? p.get_double("tangential-restitution") : kNaN;
+  run.rate = reader.lees_edwards_rate();
+  run.grains = reader.grain_count();
+  const std::vector<double> radius = reader.grains().radius;
+  run.mean_diameter = 2 * std::accumulate(radius.begin(), radius.end(), 0.0) / double(radius.size());
+  run.half_side = 0.5 * std::min(box.lx, box.ly);
+
+  const std::vector<double> strain = frame_strains(reader);
+  for (std::size_t k = 0; k < strain.size(); ++k)
+    // The tolerance absorbs the round-off of strain = γ̇·t at the frame meant to start at it.
+    if (std::fabs(strain[k]) >= from_strain - 1e-9) run.frames.push_back(k);
+  if (run.frames.empty())
+    throw bad("--from-strain " + number(from_strain) + " is past the end of the run (last frame at strain " +
+              number(std::fabs(strain.back())) + ")");
+  run.first_strain = std::fabs(strain[run.frames.front()]);
+  run.last_strain = std::fabs(strain[run.frames.back()]);
+  return run;
+}
+
+Report correlate(const std::vector<std::string>& runs, const std::vector<std::string>& references,
+                 const Settings& settings) {
+  if (runs.empty()) throw UsageError("no input trajectory");
+  if (settings.xi_el && !references.empty()) throw UsageError("give --reference or --xi-el, not both");
+  Report report;
+  report.settings = settings;
+  for (const auto& path : runs) report.runs.push_back(open_run(path, settings.from_strain));
+  for (const auto& path : references) report.references.push_back(open_run(path, settings.from_strain));
+
+  // One binning for all runs: σ from the first run; ℓ_max within every run's half box.
+  const double sigma = report.runs.front().mean_diameter;
+  report.mean_diameter = sigma;
+  const Run* narrowest = &report.runs.front();
+  for (const auto* list : {&report.runs, &report.references})
+    for (const Run& r : *list)
+      if (r.half_side < narrowest->half_side) narrowest = &r;
+  const double max_lag = settings.max_lag > 0 ? settings.max_lag : std::min(15 * sigma, narrowest->half_side);
+  if (max_lag > narrowest->half_side)
+    throw UsageError("option --max-lag: " + number(max_lag) + " exceeds half the shorter box side (" +
+                     number(narrowest->half_side) + ") of '" + narrowest->path + "'");
+  report.grid = LagGrid::make(settings.bin_width > 0 ? settings.bin_width : sigma / 20, max_lag, settings.angle_bins,
+                              settings.map_bin > 0 ? settings.map_bin : sigma / 5);
+  report.settings.bin_width = report.grid.bin_width;
+  report.settings.max_lag = report.grid.max_lag();
+  report.settings.map_bin = report.grid.map_bin;
+
+  if (settings.clusters_window > 0)
+    for (const Run& r : report.runs)
+      if (r.reader.frame_index(settings.clusters_frame) + 1 < std::size_t(settings.clusters_window))
+        throw UsageError("option --clusters-window: '" + r.path + "' has fewer than " +
+                         std::to_string(settings.clusters_window) + " frames up to --clusters-frame " +
+                         std::to_string(settings.clusters_frame));
+
+  double total_frames = 0, done_frames = 0;
+  for (const auto* list : {&report.runs, &report.references})
+    for (const Run& r : *list) total_frames += double(r.frames.size());
+  Progress bar("gf-correlate", total_frames, settings.quiet);
+  std::string status;
+  auto done = [&] { bar.update(++done_frames, status); };
+
+  const Correlator correlator(report.grid);
+  for (std::size_t i = 0; i < report.runs.size(); ++i) {
+    const Run& run = report.runs[i];
+    status = "run " + std::to_string(i + 1) + "/" + std::to_string(report.runs.size());
+    const RunSums sums = accumulate_run(run, correlator, settings.blocks, true, done);
+    report.results.push_back(summarise(sums, report.grid, settings, settings.seed + i));
+  }
+
+  std::vector<PairSums> pooled;
+  for (std::size_t i = 0; i < report.references.size(); ++i) {
+    status = "reference " + std::to_string(i + 1) + "/" + std::to_string(report.references.size());
+    const RunSums sums = accumulate_run(report.references[i], correlator, settings.blocks, false, done);
+    report.reference_xi.push_back(correlation_length(total_of(sums.blocks, report.grid)));
+    report.reference_xi_error.push_back(xi_error_of(sums.blocks));
+    pooled.insert(pooled.end(), sums.blocks.begin(), sums.blocks.end());
+  }
+  bar.finish();
+
+  if (settings.xi_el) {
+    report.xi_el = *settings.xi_el;
+    report.xi_el_error = 0;
+  } else if (!pooled.empty()) {
+    // All reference frames form one ensemble: ξ of the pooled sums, jackknife over all blocks.
+    report.xi_el = correlation_length(total_of(pooled, report.grid));
+    report.xi_el_error = xi_error_of(pooled);
+  }
+  std::vector<SweepPoint> points;
+  for (std::size_t i = 0; i < report.runs.size(); ++i) {
+    const Run& run = report.runs[i];
+    const RunResult& r = report.results[i];
+    const double ratio = r.xi / report.xi_el;
+    report.xi_ratio.push_back(ratio);
+    report.xi_ratio_error.push_back(std::fabs(ratio) *
+                                    std::hypot(r.xi_error / r.xi, report.xi_el_error / report.xi_el));
+    points.push_back({run.packing_fraction, run.restitution, run.friction, r.xi, r.xi_error});
+  }
+  if (std::isfinite(report.xi_el))
+    report.crossings = binary_collision_crossings(points, report.xi_el, report.xi_el_error, settings.threshold);
+
+  if (settings.clusters_window > 0)
+    for (const Run& run : report.runs)
+      report.clusters.push_back(clusters_of(run, settings.clusters_window, settings.clusters_frame));
+  return report;
+}
+
+}  // namespace granflow::correlation

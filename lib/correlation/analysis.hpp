@@ -1,0 +1,101 @@
+#pragma once
+// gf-correlate's analysis of shear trajectories (thesis ch. 5): for every run, averages
+// over the stored frames past the transient of the force correlation C(ℓ) (isotropic
+// and the vector map), ξ and ξ(θ) with the fit of eq. 5.3, and the distributions of
+// normal and binary-collision forces; across runs, ξ/ξ_el and ν_bc(e); optionally the
+// contact clusters of a window of frames (Fig. 5.1).
+//
+// Frames of a run past --from-strain are split into B consecutive blocks of (nearly)
+// equal length; every error is a jackknife over these blocks (a bootstrap for the peak
+// decision), so blocks must be longer than the flow's correlation time.
+// Averages over frames are ratios of sums: C = Σ_frames(pair sums)/Σ_frames W, so a
+// frame weighs in with its force content and frames without contacts add nothing.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "correlation/anisotropy_fit.hpp"
+#include "correlation/force_correlation.hpp"
+#include "correlation/force_distribution.hpp"
+#include "correlation/sweep.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::correlation {
+
+struct Settings {
+  double from_strain = 0.5;
+  double bin_width = 0;  // 0: σ/20, σ the mean grain diameter of the first run
+  double max_lag = 0;    // 0: min(15σ, half the shortest box side of all runs)
+  int angle_bins = 24;
+  double map_bin = 0;  // 0: σ/5
+  int blocks = 20;
+  double threshold = 1.25;
+  std::optional<double> xi_el;  // given instead of reference runs
+  double force_bin_width = 0.05;
+  double force_max = 10;
+  double kde_bandwidth = 0.1;
+  int bootstrap = 200;
+  std::uint64_t seed = 1;
+  int clusters_window = 0;  // frames; 0: no clusters
+  long long clusters_frame = -1;
+  bool quiet = false;
+};
+
+// A trajectory opened and checked, with the frames to average and its parameters.
+struct Run {
+  std::string path;
+  io::TrajectoryReader reader;
+  std::vector<std::size_t> frames{};  // past the transient
+  double first_strain = 0, last_strain = 0;  // of those frames
+  double packing_fraction = 0, restitution = 0, tangential_restitution = 0, friction = 0, rate = 0;
+  double mean_diameter = 0;
+  double half_side = 0;  // min(Lx, Ly)/2
+  std::size_t grains = 0;
+};
+
+// UsageError naming the file: not a trajectory, a packing, no contacts stored, no
+// strain, a box not periodic in y, parameters missing, or no frame at strain ≥ from_strain.
+Run open_run(const std::string& path, double from_strain);
+
+struct RunResult {
+  std::vector<double> c, c_error;             // C̄ per radial bin
+  std::vector<double> xi_truncated;           // ξ with integrals up to each bin's upper edge
+  double xi = 0, xi_error = 0;
+  std::vector<double> xi_theta, xi_theta_error;
+  AnisotropyFit fit;
+  std::vector<double> map;                    // C on the lag map
+  Distribution normal, binary;
+  PeakDecision peak;
+  std::size_t contacts = 0;
+  int blocks = 0;
+};
+
+struct Clusters {
+  std::vector<std::int32_t> label;  // per grain (see contact_clusters)
+  std::vector<Vec2> position;       // at the window's last frame
+  Box box;                          // of that frame
+  std::size_t first_frame = 0, last_frame = 0;
+  std::int64_t first_step = 0, last_step = 0;
+  int count = 0;  // clusters
+};
+
+struct Report {
+  Settings settings;  // with the automatic values resolved
+  LagGrid grid;
+  double mean_diameter = 0;
+  std::vector<Run> runs;
+  std::vector<RunResult> results;
+  std::vector<Run> references;
+  std::vector<double> reference_xi, reference_xi_error;
+  double xi_el = AnisotropyFit::kNaN, xi_el_error = AnisotropyFit::kNaN;
+  std::vector<double> xi_ratio, xi_ratio_error;  // per run
+  std::vector<Crossing> crossings;
+  std::vector<Clusters> clusters;  // per run when settings.clusters_window > 0
+};
+
+// The whole analysis, with a progress bar over frames unless settings.quiet.
+Report correlate(const std::vector<std::string>& runs, const std::vector<std::string>& references,
+                 const Settings& settings);
+
+}  // namespace granflow::correlation

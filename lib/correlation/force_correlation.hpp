@@ -1,0 +1,116 @@
+#pragma once
+// Spatial correlation of the total contact forces on grains (thesis eq. 5.1–5.3).
+//
+// Forces. A contact (i, j) with branch b = r_i − r_j (minimum image), n̂ = b/|b| (from
+// j to i) and t̂ = perp(n̂) pushes i with F_n n̂ + F_t t̂ and j with the opposite; F^i is
+// the sum over i's contacts. Only grains with at least one contact enter eq. 5.1; the
+// others have F^i = 0 and would add nothing anyway.
+//
+// Estimator. Eq. 5.1 sums each unordered pair once at ℓ = r^i − r^j, which depends on
+// the grains' numbering; we symmetrise it, giving each pair half of its weight
+// w = F^i·F^j at +ℓ and half at −ℓ, so C(ℓ) = C(−ℓ) and the angle average is eq. 5.1
+// unchanged. With W = Σ_i F^i·F^i and the lag density understood per unit area,
+//   C(ℓ)  = (1/W) Σ_{i>j} w_ij ½[δ²(ℓ − r_ij) + δ²(ℓ + r_ij)],
+//   C̄(ℓ)  = (1/2π)∫dθ C = (1/W) Σ_{i>j} w_ij δ(ℓ − ℓ_ij) / (2π ℓ_ij)   (isotropic part),
+// where r_ij is the Lees–Edwards minimum image and ℓ_ij = |r_ij|. Sum rule: since
+// contact forces are internal, Σ_i F^i = 0, so Σ_{i>j} w_ij = −W/2 over all pairs.
+//
+// Every pair closer than a maximum lag ℓ_max ≤ min(Lx, Ly)/2 (where the minimum image is
+// unique) is visited exactly, with cells in the sheared frame of the box; nothing beyond
+// ℓ_max is counted anywhere. The sums are kept unbinned wherever an integral needs them:
+//   ξ (eq. 5.2) = ∫_0^ℓmax dℓ ℓ C̄ / ∫_0^ℓmax dℓ C̄
+//               = Σ_{ℓ_ij<ℓmax} w_ij / Σ_{ℓ_ij<ℓmax} w_ij/ℓ_ij,
+// exact for the sampled pairs: the radial bins only group the two sums (Σw and Σw/ℓ
+// per bin), they do not discretise the integrals. For isolated binary contacts
+// (w = −F², ℓ = contact distance d) this is the F²-weighted harmonic mean of d.
+//   ξ(θ) = ∫_0^ℓmax dℓ ℓ C(ℓ, θ) / (2π ∫_0^ℓmax dℓ C̄), so that ∫_0^{2π} ξ(θ) dθ = ξ as
+// eq. 5.3 requires; it is π-periodic (C(ℓ) = C(−ℓ)) and is averaged over K sectors
+// of [0, π): ξ(θ_k) = Σ_{pairs with angle mod π in sector k} w / (2Δθ Σ_all w/ℓ),
+// Δθ = π/K.
+//   C̄ in radial bin b: Σ_{pairs in b} w / (W · π(ℓ_{b+1}² − ℓ_b²)).
+//   The map: ½Σ w at ±r_ij on a square grid of lag vectors (lab frame, bins of side h
+// whose edges are the multiples of h, so the lag axes are bin edges), divided by W h².
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "core/vec.hpp"
+#include "geometry/box.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::correlation {
+
+// The binning shared by every frame and every run of one analysis.
+struct LagGrid {
+  double bin_width = 0;  // radial bins [bΔ, (b+1)Δ)
+  int radial_bins = 0;   // ℓ_max = radial_bins · bin_width
+  int angle_bins = 0;    // sectors of [0, π)
+  double map_bin = 0;    // side h of the map's square bins
+  int map_half = 0;      // the map spans [−map_half·h, map_half·h]² (2·map_half bins per axis)
+
+  // UsageError naming the option when a value is out of range.
+  static LagGrid make(double bin_width, double max_lag, int angle_bins, double map_bin);
+  double max_lag() const { return radial_bins * bin_width; }
+  double sector_width() const;
+  int map_side() const { return 2 * map_half; }
+};
+
+// The grains of one frame that carry at least one contact, and the total contact force
+// on each (see the header comment).
+struct LoadedGrains {
+  Box box;
+  std::vector<Vec2> position;  // wrapped into the primary cell
+  std::vector<Vec2> force;
+};
+// UsageError when a contact names a grain outside 0..grains−1, itself, or has a zero branch.
+LoadedGrains loaded_grains(const io::Frame& frame);
+
+// Sums over pairs that are additive over frames (blocks of frames are sums of these).
+struct PairSums {
+  double norm = 0;                 // W = Σ_i F^i·F^i
+  std::vector<double> w;           // [radial_bins]   Σ_{i>j} F^i·F^j
+  std::vector<double> w_over_lag;  // [radial_bins]   Σ_{i>j} F^i·F^j / ℓ_ij
+  std::vector<double> sector;      // [angle_bins]    Σ_{i>j} F^i·F^j by angle of r_ij mod π
+
+  explicit PairSums(const LagGrid& grid = {});
+  PairSums& operator+=(const PairSums& other);
+};
+
+class SectorIndex;
+
+// The pair sums of frames on one LagGrid (whose lookup tables it builds once).
+class Correlator {
+ public:
+  explicit Correlator(const LagGrid& grid);
+  ~Correlator();
+  Correlator(Correlator&&) noexcept;
+  Correlator& operator=(Correlator&&) noexcept;
+
+  // Adds the pair sums of one frame to sums, and w at r_ij (for one of the two orders of
+  // each pair) to map ([map_side][map_side], row = y bin, column = x bin; empty: no map;
+  // correlation_map symmetrises it). The box must satisfy ℓ_max ≤ min(Lx, Ly)/2.
+  void accumulate(const LoadedGrains& grains, PairSums& sums, std::vector<double>& map) const;
+
+  const LagGrid& grid() const { return grid_; }
+
+ private:
+  LagGrid grid_;
+  std::unique_ptr<const SectorIndex> sectors_;
+};
+
+// Estimators from (summed) pair sums; NaN where undefined (W = 0 or empty sums).
+std::vector<double> isotropic_correlation(const PairSums& sums, const LagGrid& grid);  // C̄ per radial bin
+double correlation_length(const PairSums& sums);                                      // ξ, eq. 5.2
+// ξ with both integrals truncated at the upper edge of each radial bin (convergence check).
+std::vector<double> truncated_correlation_length(const PairSums& sums);
+std::vector<double> angular_correlation_length(const PairSums& sums, const LagGrid& grid);  // ξ(θ_k)
+// C on the map grid: ½(map at ℓ + map at −ℓ) / (W h²); NaN in bins not wholly inside
+// the disc |ℓ| < ℓ_max.
+std::vector<double> correlation_map(const std::vector<double>& map, double norm, const LagGrid& grid);
+
+// Axes: radial bin centres, sector centres θ_k = (k + ½)π/K, map bin centres (x and y alike).
+std::vector<double> radial_centres(const LagGrid& grid);
+std::vector<double> sector_centres(const LagGrid& grid);
+std::vector<double> map_centres(const LagGrid& grid);
+
+}  // namespace granflow::correlation

@@ -1,0 +1,287 @@
+#include "correlation/report.hpp"
+
+#include <cmath>
+
+#include "io/analysis_writer.hpp"
+
+namespace granflow::correlation {
+
+namespace {
+
+constexpr const char* kPerRun = "one row per input run, in /runs order";
+
+// Rows of equal length, flattened row-major.
+std::vector<double> rows(const std::vector<RunResult>& results, std::vector<double> RunResult::*member) {
+  std::vector<double> out;
+  for (const auto& r : results) out.insert(out.end(), (r.*member).begin(), (r.*member).end());
+  return out;
+}
+
+template <class F>
+std::vector<double> column(std::size_t n, F value) {
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = value(i);
+  return out;
+}
+
+template <class F>
+std::vector<std::int32_t> int_column(std::size_t n, F value) {
+  std::vector<std::int32_t> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = std::int32_t(value(i));
+  return out;
+}
+
+io::Parameters rows_note() {
+  io::Parameters p;
+  p.set("rows", kPerRun);
+  return p;
+}
+
+void write_runs(io::AnalysisWriter& w, const std::string& group, const std::vector<Run>& runs) {
+  const std::size_t n = runs.size();
+  std::vector<std::string> paths;
+  for (const Run& r : runs) paths.push_back(r.path);
+  w.write(group + "/input", paths, "path of the trajectory as given on the command line");
+  auto parameter = [&](const char* name, double Run::*member, const char* meaning, const char* units) {
+    w.write(group + "/" + name, {n}, column(n, [&](std::size_t i) { return runs[i].*member; }), meaning, units);
+  };
+  parameter("packing_fraction", &Run::packing_fraction, "packing fraction ν (the run's /parameters)", "1");
+  parameter("restitution", &Run::restitution, "normal restitution e (the run's /parameters)", "1");
+  parameter("friction", &Run::friction, "Coulomb friction μ (the run's /parameters)", "1");
+}
+
+}  // namespace
+
+void write_report(const std::string& path, const Report& report, const io::Parameters& provenance) {
+  io::AnalysisWriter w(path);
+  w.write_parameters(provenance);
+  const std::size_t n = report.runs.size();
+  const LagGrid& grid = report.grid;
+  const std::size_t nb = std::size_t(grid.radial_bins), nk = std::size_t(grid.angle_bins);
+  const std::size_t nm = std::size_t(grid.map_side());
+  const auto& res = report.results;
+  const io::Parameters per_run = rows_note();
+
+  // ---- /runs
+  write_runs(w, "/runs", report.runs);
+  w.write("/runs/tangential_restitution", {n},
+          column(n, [&](std::size_t i) { return report.runs[i].tangential_restitution; }),
+          "tangential restitution e_t (the run's /parameters)", "1");
+  w.write("/runs/rate", {n}, column(n, [&](std::size_t i) { return report.runs[i].rate; }),
+          "shear rate γ̇ (the run's /lees_edwards rate)", "1/time");
+  w.write("/runs/grains", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].grains; }), "grains N", "1");
+  w.write("/runs/frames", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].frames.size(); }),
+          "stored frames averaged (strain >= from_strain)", "1");
+  w.write("/runs/blocks", {n}, int_column(n, [&](std::size_t i) { return res[i].blocks; }),
+          "blocks of consecutive frames for the jackknife and bootstrap errors", "1");
+  w.write("/runs/first_strain", {n}, column(n, [&](std::size_t i) { return report.runs[i].first_strain; }),
+          "shear strain of the first frame averaged", "1");
+  w.write("/runs/last_strain", {n}, column(n, [&](std::size_t i) { return report.runs[i].last_strain; }),
+          "shear strain of the last frame averaged", "1");
+  w.write("/runs/contacts", {n}, column(n, [&](std::size_t i) { return double(res[i].contacts); }),
+          "contacts (F_n > 0) in the frames averaged", "1");
+
+  // ---- /correlation
+  io::Parameters attrs;
+  attrs.set("mean_diameter", report.mean_diameter);
+  attrs.set("bin_width", grid.bin_width);
+  attrs.set("max_lag", grid.max_lag());
+  attrs.set("angle_bins", grid.angle_bins);
+  attrs.set("map_bin", grid.map_bin);
+  attrs.set("from_strain", report.settings.from_strain);
+  attrs.set("definition",
+            "C(l) = (1/W) sum_{i>j} F^i.F^j (1/2)[delta(l - r_ij) + delta(l + r_ij)], W = sum_i F^i.F^i, over "
+            "grains with a contact, r_ij the Lees-Edwards minimum image, |r_ij| < max_lag; frames averaged as "
+            "ratios of sums (thesis eq. 5.1, symmetrised in l)");
+  w.write_attributes("/correlation", attrs);
+  w.write("/correlation/r", {nb}, radial_centres(grid),
+          "centre of the radial lag bin [r - bin_width/2, r + bin_width/2)", "length");
+  w.write("/correlation/C", {n, nb}, rows(res, &RunResult::c),
+          "isotropic C(l): sum of F^i.F^j over pairs in the bin / (W * annulus area), the angle average of eq. 5.1",
+          "1/length^2", per_run);
+  w.write("/correlation/C_error", {n, nb}, rows(res, &RunResult::c_error), "jackknife standard error of C",
+          "1/length^2", per_run);
+  w.write("/correlation/xi_truncated", {n, nb}, rows(res, &RunResult::xi_truncated),
+          "xi of eq. 5.2 with both integrals truncated at the bin's upper edge (convergence with max_lag)", "length",
+          per_run);
+  w.write("/correlation/xi", {n}, column(n, [&](std::size_t i) { return res[i].xi; }),
+          "correlation length xi, eq. 5.2: sum w / sum (w/l) over pairs with l < max_lag (exact integrals of the "
+          "sampled C)",
+          "length", per_run);
+  w.write("/correlation/xi_error", {n}, column(n, [&](std::size_t i) { return res[i].xi_error; }),
+          "jackknife standard error of xi", "length", per_run);
+  w.write("/correlation/xi_el", {}, std::vector<double>{report.xi_el},
+          report.references.empty() ? "elastic (dilute) reference length xi_el, given by --xi-el (NaN: none given)"
+                                    : "elastic (dilute) reference length xi_el: xi of all reference frames pooled",
+          "length");
+  w.write("/correlation/xi_el_error", {}, std::vector<double>{report.xi_el_error},
+          "standard error of xi_el (jackknife over all reference blocks; 0 when given)", "length");
+  w.write("/correlation/xi_ratio", {n}, report.xi_ratio, "xi / xi_el", "1", per_run);
+  w.write("/correlation/xi_ratio_error", {n}, report.xi_ratio_error,
+          "standard error of xi / xi_el (errors of xi and xi_el combined in quadrature)", "1", per_run);
+  w.write("/correlation/theta", {nk}, sector_centres(grid),
+          "centre of the angular sector of the lag (angle to the x axis, modulo pi)", "radian");
+  w.write("/correlation/xi_theta", {n, nk}, rows(res, &RunResult::xi_theta),
+          "xi(theta) = int dl l C(l, theta) / (2 pi int dl C(l)), averaged over the sector; int_0^2pi xi(theta) "
+          "dtheta = xi (eq. 5.3's normalisation)",
+          "length/radian", per_run);
+  w.write("/correlation/xi_theta_error", {n, nk}, rows(res, &RunResult::xi_theta_error),
+          "jackknife standard error of xi_theta", "length/radian", per_run);
+  auto fit = [&](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
+    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].fit.*member; }),
+            meaning, units, per_run);
+  };
+  fit("a0", &AnisotropyFit::a0, "a0 of eq. 5.3, xi(theta) = xi/(2 pi) (1 - a0 sin 2(theta - theta0)), fitted", "1");
+  fit("a0_error", &AnisotropyFit::a0_error, "standard error of a0 (covariance scaled by max(1, sqrt(chi2/dof)))", "1");
+  fit("theta0", &AnisotropyFit::theta0, "theta0 of eq. 5.3, in [-pi/2, pi/2)", "radian");
+  fit("theta0_error", &AnisotropyFit::theta0_error, "standard error of theta0", "radian");
+  fit("fit_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of the eq. 5.3 fit", "1");
+  w.write("/correlation/fit_weighted", {n}, int_column(n, [&](std::size_t i) { return res[i].fit.weighted; }),
+          "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter", "1",
+          per_run);
+  std::vector<double> maps;
+  for (const auto& r : res) maps.insert(maps.end(), r.map.begin(), r.map.end());
+  w.write("/correlation/map", {n, nm, nm}, maps,
+          "C(l) on square lag bins [run][y][x]: half of F^i.F^j at +r_ij and -r_ij per pair / (W * bin area); NaN "
+          "in bins not wholly within |l| < max_lag",
+          "1/length^2", per_run);
+  w.write("/correlation/map_x", {nm}, map_centres(grid), "x component of the lag at the map bin centres", "length");
+  w.write("/correlation/map_y", {nm}, map_centres(grid), "y component of the lag at the map bin centres", "length");
+
+  // ---- /forces
+  const Settings& s = report.settings;
+  io::Parameters force_attrs;
+  force_attrs.set("bin_width", s.force_bin_width);
+  force_attrs.set("max_f", s.force_max);
+  force_attrs.set("kde_bandwidth", s.kde_bandwidth);
+  force_attrs.set("bootstrap", s.bootstrap);
+  force_attrs.set("seed", std::int64_t(s.seed));
+  force_attrs.set("peak_rule",
+                  "Gaussian kernel density estimate P^ of f reflected at f = 0, bandwidth h = kde_bandwidth: "
+                  "peak = 1 if P^(3h) > P^(0) (P rises from 0: a peak at f > 0), 0 otherwise (largest at f = 0); "
+                  "confidence = fraction of block-bootstrap replicates reaching the same decision");
+  w.write_attributes("/forces", force_attrs);
+  std::vector<double> centres = res.front().normal.centre;
+  auto distribution = [&](const std::string& name, Distribution RunResult::*member, const char* meaning) {
+    std::vector<double> p, e;
+    for (const auto& r : res) {
+      p.insert(p.end(), (r.*member).density.begin(), (r.*member).density.end());
+      e.insert(e.end(), (r.*member).error.begin(), (r.*member).error.end());
+    }
+    w.write("/forces/" + name, {n, centres.size()}, p, meaning, "1", per_run);
+    w.write("/forces/" + name + "_error", {n, centres.size()}, e, "jackknife standard error (each block left out "
+            "with its own mean force)", "1", per_run);
+  };
+  w.write("/forces/f", {centres.size()}, centres, "bin centre of f = F_n/<F_n>", "1");
+  w.write("/forces/f_bc", {centres.size()}, centres, "bin centre of f_bc = F_bc/<F_bc>", "1");
+  distribution("P", &RunResult::normal,
+               "P(f) of normal contact forces, counts / (all contacts * bin width) (Figs 5.7, 5.8)");
+  distribution("P_bc", &RunResult::binary,
+               "P(f_bc) of the binary-collision forces F_bc of eq. 5.4 of the same contacts (Fig. 5.7)");
+  auto force_column = [&](const char* name, auto value, const char* meaning, const char* units) {
+    w.write(std::string("/forces/") + name, {n}, column(n, value), meaning, units, per_run);
+  };
+  force_column("mean_force", [&](std::size_t i) { return res[i].normal.mean; }, "<F_n> over all contacts", "force");
+  force_column("mean_force_error", [&](std::size_t i) { return res[i].normal.mean_error; },
+               "jackknife standard error of <F_n>", "force");
+  force_column("mean_binary_force", [&](std::size_t i) { return res[i].binary.mean; }, "<F_bc> over all contacts",
+               "force");
+  force_column("mean_binary_force_error", [&](std::size_t i) { return res[i].binary.mean_error; },
+               "jackknife standard error of <F_bc>", "force");
+  w.write("/forces/peak", {n}, int_column(n, [&](std::size_t i) { return res[i].peak.peak; }),
+          "1: P(f) rises from f = 0 (a peak at f > 0); 0: it is largest at f = 0 (see the group's peak_rule)", "1",
+          per_run);
+  force_column("peak_confidence", [&](std::size_t i) { return res[i].peak.confidence; },
+               "fraction of bootstrap replicates with the same peak decision (NaN with one block)", "1");
+  force_column("mode", [&](std::size_t i) { return res[i].peak.mode; },
+               "f at the maximum of the kernel density estimate", "1");
+  force_column("p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
+               "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
+
+  // ---- /reference
+  if (!report.references.empty()) {
+    const std::size_t m = report.references.size();
+    write_runs(w, "/reference", report.references);
+    w.write("/reference/xi", {m}, report.reference_xi, "xi (eq. 5.2) of the reference run", "length");
+    w.write("/reference/xi_error", {m}, report.reference_xi_error, "jackknife standard error of xi", "length");
+  }
+
+  // ---- /sweep
+  if (!report.crossings.empty()) {
+    const auto& c = report.crossings;
+    const std::size_t g = c.size();
+    io::Parameters sweep_attrs;
+    sweep_attrs.set("threshold", s.threshold);
+    sweep_attrs.set("rule", "nu_bc: first upward crossing of xi/xi_el = threshold along nu within one (e, mu) "
+                            "series, linear interpolation between the bracketing runs (thesis Figs 5.9, 5.10)");
+    w.write_attributes("/sweep", sweep_attrs);
+    auto series = [&](const char* name, auto value, const char* meaning, const char* units) {
+      w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
+    };
+    series("restitution", [&](std::size_t k) { return c[k].restitution; }, "e of the series", "1");
+    series("friction", [&](std::size_t k) { return c[k].friction; }, "mu of the series", "1");
+    series("nu_bc", [&](std::size_t k) { return c[k].nu_bc; },
+           "packing fraction where xi/xi_el crosses the threshold (NaN unless status = 0)", "1");
+    series("nu_bc_error", [&](std::size_t k) { return c[k].nu_bc_error; },
+           "standard error of nu_bc from the errors of xi and xi_el (interpolation error not included)", "1");
+    series("nu_below", [&](std::size_t k) { return c[k].nu_below; }, "nu of the run below the crossing", "1");
+    series("nu_above", [&](std::size_t k) { return c[k].nu_above; }, "nu of the run above the crossing", "1");
+    w.write("/sweep/runs", {g}, int_column(g, [&](std::size_t k) { return c[k].runs; }),
+            "runs in the series (runs at equal nu are merged)", "1");
+    w.write("/sweep/sign_changes", {g}, int_column(g, [&](std::size_t k) { return c[k].sign_changes; }),
+            "sign changes of xi/xi_el - threshold along nu (more than 1: noisy or non-monotonic)", "1");
+    w.write("/sweep/status", {g}, int_column(g, [&](std::size_t k) { return int(c[k].status); }),
+            "0 crossing interpolated; 1 every run above the threshold (nu_bc below the lowest nu); 2 every run "
+            "below (nu_bc above the highest nu); 3 fewer than two distinct nu; 4 only downward crossings",
+            "1");
+    w.write("/sweep/regime", {n}, int_column(n, [&](std::size_t i) {
+              const double q = report.xi_ratio[i];
+              return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
+            }),
+            "phase diagram (Fig. 5.10): 1 dense inertial (xi/xi_el >= threshold), 0 dilute (binary collisions), "
+            "-1 unknown",
+            "1", per_run);
+  }
+
+  // ---- /clusters
+  if (!report.clusters.empty()) {
+    std::vector<std::int32_t> label, offset{0};
+    std::vector<double> position, box;
+    for (const Clusters& c : report.clusters) {
+      label.insert(label.end(), c.label.begin(), c.label.end());
+      for (const Vec2& r : c.position) position.insert(position.end(), {r.x(), r.y()});
+      offset.push_back(std::int32_t(label.size()));
+      box.insert(box.end(), {c.box.lx, c.box.ly, c.box.offset});
+    }
+    const auto& c = report.clusters;
+    io::Parameters cluster_attrs;
+    cluster_attrs.set("window", s.clusters_window);
+    cluster_attrs.set("rule", "grains in contact in any stored frame of the window, grouped into connected "
+                              "components of the union of the frames' contact graphs (thesis Fig. 5.1)");
+    w.write_attributes("/clusters", cluster_attrs);
+    w.write("/clusters/label", {label.size()}, label,
+            "cluster of each grain: 0 no contact in the window, 1.. clusters by decreasing size; run k's grains "
+            "are rows grain_offset[k] .. grain_offset[k+1]-1",
+            "1");
+    w.write("/clusters/position", {label.size(), 2}, position, "grain centres at the window's last frame", "length");
+    w.write("/clusters/grain_offset", {offset.size()}, offset, "first row of each run in label and position", "1");
+    w.write("/clusters/box", {n, 3}, box, "Lx, Ly and the Lees-Edwards image offset at the window's last frame",
+            "length", per_run);
+    w.write("/clusters/first_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].first_frame; }),
+            "first stored frame of the window", "1", per_run);
+    w.write("/clusters/last_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].last_frame; }),
+            "last stored frame of the window", "1", per_run);
+    std::vector<std::int64_t> first_step, last_step;
+    for (const Clusters& k : c) {
+      first_step.push_back(k.first_step);
+      last_step.push_back(k.last_step);
+    }
+    w.write("/clusters/first_step", {n}, first_step, "time step of the window's first frame", "1", per_run);
+    w.write("/clusters/last_step", {n}, last_step, "time step of the window's last frame", "1", per_run);
+    w.write("/clusters/count", {n}, int_column(n, [&](std::size_t i) { return c[i].count; }), "clusters", "1",
+            per_run);
+  }
+  w.close();
+}
+
+}  // namespace granflow::correlation

@@ -1,0 +1,36 @@
+#pragma once
+// gf-correlate's output file (DESIGN.md "Analysis outputs"). R input runs, B radial bins,
+// K sectors, M map bins per axis, F force bins, G (e, μ) series of the sweep:
+//
+//   /parameters         provenance: every option, command line, program, version,
+//                       input[_k] + sha256 per run, reference[_k] + sha256 per reference
+//   /runs/              one row per input run: input (path), packing_fraction,
+//                       restitution, tangential_restitution, friction, rate, grains,
+//                       frames, blocks, first_strain, last_strain, contacts
+//   /correlation/       attrs: mean_diameter, bin_width, max_lag, angle_bins, map_bin,
+//                       from_strain and the estimator's definition
+//     r [B], C, C_error, xi_truncated [R][B]; xi, xi_error [R]; xi_el, xi_el_error [];
+//     xi_ratio, xi_ratio_error [R]; theta [K], xi_theta, xi_theta_error [R][K];
+//     a0, a0_error, theta0, theta0_error, fit_chi2_dof [R], fit_weighted [R];
+//     map [R][M][M] (row = y lag), map_x, map_y [M]
+//   /forces/            f, f_bc [F]; P, P_error, P_bc, P_bc_error [R][F];
+//     mean_force, mean_force_error, mean_binary_force, mean_binary_force_error [R];
+//     peak, peak_confidence, mode, p0_over_pmax [R]
+//   /reference/         (with --reference) input, packing_fraction, restitution, friction,
+//                       xi, xi_error, one row per reference run
+//   /sweep/             (when ξ_el is known) restitution, friction, nu_bc, nu_bc_error,
+//                       nu_below, nu_above, runs, sign_changes, status [G]; regime [R]
+//   /clusters/          (with --clusters-window) label [ΣN], position [ΣN][2],
+//                       grain_offset [R+1], first_frame, last_frame, first_step, last_step,
+//                       count [R], box [R][3] (Lx, Ly, Lees–Edwards offset)
+#include <string>
+
+#include "correlation/analysis.hpp"
+#include "io/trajectory.hpp"
+
+namespace granflow::correlation {
+
+// Writes the file at path (the caller's temporary; see OutputFile).
+void write_report(const std::string& path, const Report& report, const io::Parameters& provenance);
+
+}  // namespace granflow::correlation

@@ -1,0 +1,332 @@
+// gf-correlate as a user runs it: known answers end to end on constructed trajectories
+// (isolated binary contacts, whose ξ is known exactly), a sweep with ν_bc and clusters, a
+// real gf-pack → gf-shear → gf-correlate chain, and bad input (exit 2, one line, no output).
+#include <gtest/gtest.h>
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include "core/random.hpp"
+#include "core/sha256.hpp"
+#include "io/hdf5_handle.hpp"
+#include "io/trajectory.hpp"
+#include "programs/run_tool.hpp"
+
+using namespace granflow;
+using namespace granflow::testing;
+
+namespace {
+
+// A gf-shear-like trajectory of `frames` frames at strain 0, 0.1, 0.2, … (rate 1, dt 1e-3,
+// a frame every 100 steps): 9 isolated pairs of grains at contact distance `distance` on a
+// 3 × 3 lattice 25 apart in a 75 × 75 Lees–Edwards box, random forces per frame. Returns
+// Σ F² and Σ F²/d over the frames from `first_used` on (eq. 5.2's sums for these pairs).
+struct Sums {
+  double w2 = 0, w2_over_d = 0, force = 0, contacts = 0;
+};
+Sums write_pairs_run(const std::string& path, double nu, double e, double distance, int frames, int first_used,
+                     bool with_contacts = true, std::uint64_t seed = 1) {
+  Rng rng(seed);
+  io::TrajectoryWriter w(path);
+  io::Parameters p;
+  p.set("program", "gf-shear");
+  p.set("packing_fraction", nu);
+  p.set("restitution", e);
+  p.set("friction", 0.0);
+  p.set("tangential-restitution", 0.0);
+  w.write_parameters(p);
+  const Box box{75, 75, true, 0};
+  w.write_grains(io::GrainProperties{std::vector<double>(18, 0.5 * distance), std::vector<double>(18, 1.0),
+                                     std::vector<std::uint8_t>(18, 0)},
+                 box);
+  w.set_lees_edwards_rate(1);
+  Sums sums;
+  for (int k = 0; k < frames; ++k) {
+    io::Frame f;
+    f.step = 100 * k;
+    f.time = 0.1 * k;
+    f.box = box;
+    f.box.shift_offset(75 * f.time);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const double phi = rng.uniform(0, 2 * M_PI);
+        const Vec2 branch = distance * Vec2(std::cos(phi), std::sin(phi)), centre(12 + 25 * a, 12 + 25 * b);
+        f.position.push_back(centre + 0.5 * branch);
+        f.position.push_back(centre - 0.5 * branch);
+        const double fn = rng.uniform(0.5, 2);
+        const std::int32_t i = std::int32_t(f.position.size()) - 2;
+        f.contacts.pair.push_back({i, i + 1});
+        f.contacts.branch.push_back(branch);
+        f.contacts.normal_force.push_back(fn);
+        f.contacts.tangential_force.push_back(0);
+        f.contacts.binary_force.push_back(fn * rng.uniform(0.5, 1.5));
+        f.contacts.pre_normal_velocity.push_back({0, 0});
+        f.contacts.age.push_back(1);
+        if (k >= first_used) {
+          sums.w2 += fn * fn;
+          sums.w2_over_d += fn * fn / distance;
+          sums.force += fn;
+          sums.contacts += 1;
+        }
+      }
+    f.velocity.assign(18, Vec2::Zero());
+    f.orientation.assign(18, 0);
+    f.angular_velocity.assign(18, 0);
+    f.has_contacts = with_contacts;
+    if (!with_contacts) f.contacts.clear();
+    w.append_frame(f);
+    w.append_observable("strain", f.step, f.time, f.time);
+  }
+  w.close();
+  return sums;
+}
+
+std::vector<double> read_doubles(const std::string& file, const std::string& dataset) {
+  io::File f = io::open_file(file, false);
+  io::Dataset d = io::open_dataset(f.get(), dataset);
+  return io::read_all<double>(d.get());
+}
+
+double read_scalar(const std::string& file, const std::string& dataset) {
+  io::File f = io::open_file(file, false);
+  io::Dataset d = io::open_dataset(f.get(), dataset);
+  double value = 0;
+  EXPECT_GE(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), 0) << dataset;
+  return value;
+}
+
+std::vector<std::int32_t> read_ints(const std::string& file, const std::string& dataset) {
+  io::File f = io::open_file(file, false);
+  io::Dataset d = io::open_dataset(f.get(), dataset);
+  return io::read_all<std::int32_t>(d.get());
+}
+
+std::string string_attribute(const std::string& file, const std::string& object, const std::string& name) {
+  io::File f = io::open_file(file, false);
+  const H5O_type_t type = [&] {
+    H5O_info_t info;
+#if H5_VERSION_GE(1, 12, 0)
+    H5Oget_info_by_name3(f.get(), object.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT);
+#else
+    H5Oget_info_by_name(f.get(), object.c_str(), &info, H5P_DEFAULT);
+#endif
+    return info.type;
+  }();
+  if (type == H5O_TYPE_GROUP) {
+    io::Group g = io::open_group(f.get(), object);
+    io::Attribute a = io::open_attribute(g.get(), name);
+    return io::read_string_attribute(a.get());
+  }
+  io::Dataset d = io::open_dataset(f.get(), object);
+  io::Attribute a = io::open_attribute(d.get(), name);
+  return io::read_string_attribute(a.get());
+}
+
+// One packing shared by the tests of this file.
+const std::string& packing() {
+  static ScratchDir dir("correlate_packing");
+  static std::string path = [] {
+    std::string p = dir / "pack.h5";
+    EXPECT_EQ(run_tool("gf-pack", "--grains 150 --packing-fraction 0.78 --seed 2 --quiet -o " + p).exit_code, 0);
+    return p;
+  }();
+  return path;
+}
+
+}  // namespace
+
+TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
+  ScratchDir dir("correlate_pairs");
+  const std::string run = dir / "run.h5", out = dir / "out.h5";
+  const Sums s = write_pairs_run(run, 0.6, 0.5, 1.3, 10, 5);
+  auto r = run_tool("gf-correlate", run + " -o " + out + " --from-strain 0.5 --max-lag 10 --blocks 5 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_ints(out, "/runs/frames")[0], 5);
+  EXPECT_NEAR(read_doubles(out, "/runs/first_strain")[0], 0.5, 1e-12);
+  EXPECT_NEAR(read_doubles(out, "/correlation/xi")[0], s.w2 / s.w2_over_d, 1e-12);
+  EXPECT_LT(read_doubles(out, "/correlation/xi_error")[0], 1e-12) << "every block has ξ = d exactly";
+  EXPECT_NEAR(read_doubles(out, "/forces/mean_force")[0], s.force / s.contacts, 1e-6);
+  EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_el")));
+  // C(ℓ) sits in the one bin holding ℓ = 1.3, and the whole C integrates to −1/2 (sum rule).
+  const auto r_bins = read_doubles(out, "/correlation/r"), c = read_doubles(out, "/correlation/C");
+  const double width = r_bins[1] - r_bins[0];
+  double integral = 0;
+  for (std::size_t b = 0; b < c.size(); ++b) {
+    integral += c[b] * M_PI * width * width * double(2 * b + 1);
+    if (std::fabs(r_bins[b] - 1.3) > width) {
+      EXPECT_EQ(c[b], 0) << r_bins[b];
+    }
+  }
+  EXPECT_NEAR(integral, -0.5, 1e-12);
+  // Provenance and self-description.
+  EXPECT_EQ(string_attribute(out, "/parameters", "program"), "gf-correlate");
+  EXPECT_EQ(string_attribute(out, "/parameters", "input"), run);
+  EXPECT_EQ(string_attribute(out, "/parameters", "input_sha256"), sha256_file(run));
+  EXPECT_NE(string_attribute(out, "/parameters", "command_line").find("--from-strain 0.5"), std::string::npos);
+  EXPECT_FALSE(string_attribute(out, "/parameters", "version").empty());
+  for (const char* d :
+       {"/correlation/C", "/correlation/xi_theta", "/correlation/map", "/forces/P", "/runs/restitution"}) {
+    EXPECT_FALSE(string_attribute(out, d, "meaning").empty()) << d;
+    EXPECT_FALSE(string_attribute(out, d, "units").empty()) << d;
+  }
+  EXPECT_EQ(dir.entries(), 2) << "only the run and the output";
+}
+
+TEST(GfCorrelate, SweepGivesNuBcAndClusters) {
+  // ξ of isolated pairs is their distance: runs at ν = 0.6, 0.7, 0.8 with d = 1.0, 1.2, 1.5
+  // and ξ_el = 1 cross ξ/ξ_el = 1.25 at ν = 0.7 + 0.05/0.3 · 0.1.
+  ScratchDir dir("correlate_sweep");
+  const std::string a = dir / "a.h5", b = dir / "b.h5", c = dir / "c.h5", ref = dir / "ref.h5";
+  write_pairs_run(a, 0.6, 0.5, 1.0, 6, 0, true, 1);
+  write_pairs_run(b, 0.7, 0.5, 1.2, 6, 0, true, 2);
+  write_pairs_run(c, 0.8, 0.5, 1.5, 6, 0, true, 3);
+  write_pairs_run(ref, 0.3, 0.5, 1.0, 6, 0, true, 4);
+  const std::string common = " --from-strain 0 --max-lag 10 --quiet --clusters-window 2 --clusters-frame 3";
+  auto r = run_tool("gf-correlate", a + " " + b + " " + c + " -o " + (dir / "given.h5") + " --xi-el 1" + common);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string out = dir / "given.h5";
+  EXPECT_NEAR(read_doubles(out, "/sweep/nu_bc")[0], 0.7 + 0.05 / 0.3 * 0.1, 1e-12);
+  EXPECT_EQ(read_ints(out, "/sweep/status")[0], 0);
+  EXPECT_EQ(read_ints(out, "/sweep/regime"), (std::vector<std::int32_t>{0, 0, 1}));
+  const auto ratio = read_doubles(out, "/correlation/xi_ratio");
+  EXPECT_NEAR(ratio[1], 1.2, 1e-12);
+  EXPECT_EQ(read_doubles(out, "/runs/packing_fraction"), (std::vector<double>{0.6, 0.7, 0.8}));
+  // Clusters: every pair is its own cluster of two; runs are stacked with offsets.
+  EXPECT_EQ(read_ints(out, "/clusters/grain_offset"), (std::vector<std::int32_t>{0, 18, 36, 54}));
+  EXPECT_EQ(read_ints(out, "/clusters/count"), (std::vector<std::int32_t>{9, 9, 9}));
+  EXPECT_EQ(read_ints(out, "/clusters/first_frame"), (std::vector<std::int32_t>{2, 2, 2}));
+  const auto label = read_ints(out, "/clusters/label");
+  for (std::size_t i = 0; i < label.size(); i += 2) EXPECT_EQ(label[i], label[i + 1]) << i;
+
+  // The same with ξ_el from a dilute reference run (pairs at d = 1: ξ_el = 1 exactly).
+  r = run_tool("gf-correlate", a + " " + b + " " + c + " -o " + (dir / "ref_out.h5") + " --reference " + ref + common);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(read_scalar(dir / "ref_out.h5", "/correlation/xi_el"), 1.0, 1e-12);
+  EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/sweep/nu_bc")[0], 0.7 + 0.05 / 0.3 * 0.1, 1e-12);
+  EXPECT_EQ(string_attribute(dir / "ref_out.h5", "/parameters", "reference"), ref);
+}
+
+TEST(GfCorrelate, RealShearRun) {
+  ScratchDir dir("correlate_real");
+  const std::string run = dir / "run.h5", out = dir / "out.h5";
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " -o " + run +
+                                     " --rate 1 --steps 400 --frame-every 20 --restitution 0.5 --quiet")
+                .exit_code,
+            0);
+  auto r = run_tool("gf-correlate", run + " -o " + out + " --from-strain 0.1 --blocks 4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("xi ="), std::string::npos) << r.err;
+  EXPECT_EQ(read_ints(out, "/runs/frames")[0], 16);  // strains 0.10, 0.12, …, 0.40
+  const double xi = read_doubles(out, "/correlation/xi")[0];
+  EXPECT_GT(xi, 0.5);
+  EXPECT_LT(xi, 20);
+  EXPECT_TRUE(std::isfinite(read_doubles(out, "/correlation/a0")[0]));
+  const auto peak = read_ints(out, "/forces/peak");
+  EXPECT_TRUE(peak[0] == 0 || peak[0] == 1);
+}
+
+// ---- bad input: exit 2, one line naming the problem, no output file left ----
+
+namespace {
+struct Case {
+  const char* name;
+  const char* args;  // {run} = a valid run, {bare} = a run without contacts, {pack} = a packing, {out} = output
+  const char* expected;
+};
+[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
+const std::string& valid_run() {
+  static ScratchDir dir("correlate_valid_run");
+  static std::string path = [] {
+    std::string p = dir / "run.h5";
+    write_pairs_run(p, 0.6, 0.5, 1.3, 10, 0);
+    return p;
+  }();
+  return path;
+}
+
+const std::string& bare_run() {
+  static ScratchDir dir("correlate_bare_run");
+  static std::string path = [] {
+    std::string p = dir / "bare.h5";
+    write_pairs_run(p, 0.6, 0.5, 1.3, 4, 0, false);
+    return p;
+  }();
+  return path;
+}
+}  // namespace
+
+class GfCorrelateBadInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GfCorrelateBadInput, FailsWithExitTwoOneLineNoOutput) {
+  const Case& c = GetParam();
+  ScratchDir dir(std::string("correlate_bad_") + c.name);
+  std::string args = c.args;
+  for (auto [key, value] : {std::pair<std::string, std::string>{"{run}", valid_run()},
+                            {"{bare}", bare_run()},
+                            {"{pack}", packing()},
+                            {"{out}", dir / "out.h5"}})
+    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
+  auto r = run_tool("gf-correlate", args + " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, GfCorrelateBadInput,
+    ::testing::Values(
+        Case{"no_contacts_stored", "{bare} -o {out}", "no contacts stored"},
+        Case{"a_packing", "{pack} -o {out}", "is a packing"},
+        Case{"from_strain_past_the_end", "{run} -o {out} --from-strain 5", "past the end of the run"},
+        Case{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},
+        Case{"missing_file", "{out}.missing -o {out}", "no such file"},
+        Case{"no_input", "-o {out}", "missing RUN.h5"},
+        Case{"missing_output", "{run}", "--output"},
+        Case{"blocks_zero", "{run} -o {out} --blocks 0", "--blocks"},
+        Case{"max_lag_beyond_half_box", "{run} -o {out} --max-lag 40", "--max-lag"},
+        Case{"bin_width_negative", "{run} -o {out} --bin-width -1", "--bin-width"},
+        Case{"angle_bins_two", "{run} -o {out} --angle-bins 2", "--angle-bins"},
+        Case{"xi_el_zero", "{run} -o {out} --xi-el 0", "--xi-el"},
+        Case{"xi_el_and_reference", "{run} -o {out} --xi-el 1 --reference {run}", "not both"},
+        Case{"reference_missing", "{run} -o {out} --reference {out}.ref", "no such file"},
+        Case{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
+        Case{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
+        Case{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
+        Case{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
+        Case{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
+    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+
+TEST(GfCorrelateBadInput, NotHdf5AndOutputIsInput) {
+  ScratchDir dir("correlate_bad_files");
+  const std::string text = dir / "text.h5";
+  std::ofstream(text) << "not hdf5\n";
+  auto r = run_tool("gf-correlate", text + " -o " + (dir / "out.h5"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("not an HDF5 file"), std::string::npos) << r.err;
+  const std::string run = dir / "run.h5";
+  write_pairs_run(run, 0.6, 0.5, 1.3, 4, 0);
+  r = run_tool("gf-correlate", run + " -o " + run);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("also an input"), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 2);
+}
+
+TEST(GfCorrelateUsage, HelpListsEveryOptionWithDefaults) {
+  ScratchDir dir("correlate_help");
+  ASSERT_EQ(std::system((tool_path("gf-correlate") + " --help > " + (dir / "help.txt")).c_str()), 0);
+  std::ifstream in(dir / "help.txt");
+  const std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* option : {"--output", "--from-strain", "--bin-width", "--max-lag", "--angle-bins", "--map-bin",
+                             "--blocks", "--reference", "--xi-el", "--threshold", "--force-bin-width", "--force-max",
+                             "--kde-bandwidth", "--bootstrap", "--seed", "--clusters-window", "--clusters-frame",
+                             "--quiet", "--version"})
+    EXPECT_NE(help.find(option), std::string::npos) << option;
+  EXPECT_NE(help.find("[default: 0.5]"), std::string::npos);
+  EXPECT_NE(help.find("[default: 1.25]"), std::string::npos);
+  EXPECT_EQ(run_tool("gf-correlate", "--version").exit_code, 0);
+}

@@ -1,0 +1,128 @@
+// gf-correlate: force correlations and contact-force statistics of sheared flows
+// (thesis ch. 5: eq. 5.1–5.4, Figs 5.1–5.10) from one or many gf-shear trajectories.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "core/cli.hpp"
+#include "core/output_file.hpp"
+#include "core/tool.hpp"
+#include "correlation/analysis.hpp"
+#include "correlation/report.hpp"
+#include "io/provenance.hpp"
+
+using namespace granflow;
+
+namespace {
+std::vector<std::string> comma_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+int whole(const CommandLine& cli, const std::string& name, long long lo) {
+  const long long v = cli.integer(name);
+  if (v < lo || v > 1000000000) throw UsageError("option --" + name + ": must be in [" + std::to_string(lo) + ", 1e9]");
+  return int(v);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  return run_tool("gf-correlate", [&] {
+    CommandLine cli("gf-correlate", "RUN.h5... -o OUT.h5 [options]",
+                    "Averages over the frames of each gf-shear trajectory past --from-strain: the force correlation\n"
+                    "C(l) of eq. 5.1 (total contact force F^i of every grain with a contact; isotropic in radial\n"
+                    "bins and as a map of lag vectors, exact pair sums over Lees-Edwards minimum images up to\n"
+                    "--max-lag), the correlation length xi of eq. 5.2, its angular dependence xi(theta) with the fit\n"
+                    "of eq. 5.3 (a0, theta0), and the distributions P(f) of normal forces and of the binary-collision\n"
+                    "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0. With reference runs\n"
+                    "(dilute, binary collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e)\n"
+                    "where xi/xi_el crosses --threshold. Errors are jackknife (bootstrap for the peak) over --blocks\n"
+                    "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
+                    "diameter sigma of the first run. Output: one HDF5 file, one row per run (see the README).");
+    cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
+    cli.option("output", 'o', "FILE", "output HDF5 file");
+    cli.option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
+    cli.option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
+    cli.option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)", "0");
+    cli.option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
+    cli.option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
+    cli.option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
+    cli.option("reference", 0, "FILES",
+               "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el,\n"
+               "      xi/xi_el is NaN and nu_bc is not computed)");
+    cli.option("xi-el", 0, "XI", "the elastic reference length xi_el, instead of --reference");
+    cli.option("threshold", 0, "C", "xi/xi_el at the binary-collision crossover nu_bc", "1.25");
+    cli.option("force-bin-width", 0, "DF", "bin width of P(f) in units of the mean force", "0.05");
+    cli.option("force-max", 0, "F", "largest f of P(f) and of the peak search", "10");
+    cli.option("kde-bandwidth", 0, "H", "bandwidth of the kernel density estimate deciding the peak of P(f)", "0.1");
+    cli.option("bootstrap", 0, "N", "bootstrap replicates of the peak decision", "200");
+    cli.option("seed", 0, "SEED", "random seed of the bootstrap", "1");
+    cli.option("clusters-window", 0, "FRAMES", "write contact clusters over this many stored frames; 0 = none", "0");
+    cli.option("clusters-frame", 0, "K", "last frame of the cluster window; negative counts from the end", "-1");
+    if (!cli.parse(argc, argv)) return 0;
+
+    correlation::Settings s;
+    s.from_strain = cli.real("from-strain");
+    require_in_range("from-strain", s.from_strain, 0, INFINITY, false, true);
+    s.bin_width = cli.real("bin-width");
+    s.max_lag = cli.real("max-lag");
+    s.map_bin = cli.real("map-bin");
+    require_in_range("bin-width", s.bin_width, 0, INFINITY, false, true);
+    require_in_range("max-lag", s.max_lag, 0, INFINITY, false, true);
+    require_in_range("map-bin", s.map_bin, 0, INFINITY, false, true);
+    s.angle_bins = whole(cli, "angle-bins", 3);
+    s.blocks = whole(cli, "blocks", 1);
+    s.threshold = cli.real("threshold");
+    require_positive("threshold", s.threshold);
+    if (cli.given("xi-el")) {
+      s.xi_el = cli.real("xi-el");
+      require_positive("xi-el", *s.xi_el);
+    }
+    const std::vector<std::string> references = cli.given("reference") ? comma_list(cli.text("reference"))
+                                                                        : std::vector<std::string>{};
+    if (cli.given("reference") && references.empty()) throw UsageError("option --reference: no file given");
+    s.force_bin_width = cli.real("force-bin-width");
+    require_positive("force-bin-width", s.force_bin_width);
+    s.force_max = cli.real("force-max");
+    if (!(s.force_max >= s.force_bin_width)) throw UsageError("option --force-max: must be >= --force-bin-width");
+    s.kde_bandwidth = cli.real("kde-bandwidth");
+    require_positive("kde-bandwidth", s.kde_bandwidth);
+    if (!(s.force_max >= 4 * s.kde_bandwidth))
+      throw UsageError("option --kde-bandwidth: must be at most --force-max/4 (the peak test compares f = 0 and 3h)");
+    s.bootstrap = whole(cli, "bootstrap", 0);
+    const long long seed = cli.integer("seed");
+    if (seed < 0) throw UsageError("option --seed: must be >= 0");
+    s.seed = std::uint64_t(seed);
+    s.clusters_window = whole(cli, "clusters-window", 0);
+    s.clusters_frame = cli.integer("clusters-frame");
+    s.quiet = cli.flag_set("quiet");
+
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (const auto& input : cli.positional())
+      if (fs::exists(cli.text("output"), ec) && fs::equivalent(input, cli.text("output"), ec))
+        throw UsageError("the output '" + cli.text("output") + "' is also an input");
+    OutputFile out(cli.text("output"));
+    const correlation::Report report = correlation::correlate(cli.positional(), references, s);
+    io::Parameters parameters = io::provenance(cli);
+    for (std::size_t k = 0; k < cli.positional().size(); ++k) io::add_input(parameters, cli.positional()[k], int(k));
+    for (std::size_t k = 0; k < references.size(); ++k) io::add_input(parameters, references[k], int(k), "reference");
+    correlation::write_report(out.temp_path(), report, parameters);
+    out.commit();
+
+    if (!s.quiet && !s.xi_el && references.empty())
+      std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: xi/xi_el and nu_bc not computed\n");
+    if (!s.quiet)
+      for (std::size_t i = 0; i < report.runs.size(); ++i)
+        std::fprintf(stderr, "gf-correlate: %s: %zu frames, xi = %.4g +- %.2g (xi/xi_el = %.3g), P(f) %s (%.0f%%)\n",
+                     report.runs[i].path.c_str(), report.runs[i].frames.size(), report.results[i].xi,
+                     report.results[i].xi_error, report.xi_ratio[i],
+                     report.results[i].peak.peak == 1 ? "peaks at f > 0" : "is largest at f = 0",
+                     100 * report.results[i].peak.confidence);
+    return 0;
+  });
+}
