@@ -124,6 +124,13 @@ class TrajectoryWriter {
   void append_observable(const std::string& name, std::int64_t step, double time,
                          const Mat2& value);
 
+  // A fixed-size array of doubles written in one go at an absolute path such as
+  // /profiles/velocity_x (missing parent groups are created; the path must be new), with
+  // `attributes` (e.g. meaning, units) on the dataset. shape's product must equal
+  // values.size(). For analysis results, e.g. gf-incline's depth profiles.
+  void write_array(const std::string& path, const std::vector<std::size_t>& shape,
+                   const std::vector<double>& values, const Parameters& attributes = {});
+
   void flush();  // writes buffered rows and flushes the file
   void close();  // flush and close; further calls fail
 
@@ -177,6 +184,10 @@ class TrajectoryReader {
   std::vector<double> observable_time(const std::string& name) const;
   std::vector<double> observable_scalar(const std::string& name) const;
   std::vector<Mat2> observable_tensor(const std::string& name) const;
+
+  // An array of doubles (as write_array stores it), flattened row-major; its shape in
+  // *shape if given. UsageError naming the file if the dataset is absent.
+  std::vector<double> array(const std::string& path, std::vector<std::size_t>* shape = nullptr) const;
 
   const std::string& path() const;
 

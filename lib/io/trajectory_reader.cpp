@@ -301,4 +301,14 @@ std::vector<Mat2> TrajectoryReader::observable_tensor(const std::string& name) c
   });
 }
 
+std::vector<double> TrajectoryReader::array(const std::string& path, std::vector<std::size_t>* dims) const {
+  return as_usage_error([&] {
+    if (!exists(impl_->file.get(), path)) impl_->bad("missing dataset " + path);
+    Dataset dataset = open_dataset(impl_->file.get(), path);
+    const std::vector<hsize_t> extent = shape(dataset.get());
+    if (dims) dims->assign(extent.begin(), extent.end());
+    return read_all<double>(dataset.get());
+  });
+}
+
 }  // namespace granflow::io

@@ -290,6 +290,26 @@ void TrajectoryWriter::append_observable(const std::string& name, std::int64_t s
   if (o.steps.size() >= kObservableBlock) o.flush();
 }
 
+void TrajectoryWriter::write_array(const std::string& path, const std::vector<std::size_t>& dims,
+                                   const std::vector<double>& values, const Parameters& attributes) {
+  hid_t file = impl_->id();
+  std::size_t count = 1;
+  for (std::size_t d : dims) count *= d;
+  if (path.empty() || path.front() != '/' || path.back() == '/' || count != values.size())
+    throw RuntimeFailure("'" + impl_->path + "': cannot write array '" + path + "' of shape " +
+                         shape_text({dims.begin(), dims.end()}) + " from " + std::to_string(values.size()) +
+                         " values");
+  // Parent groups, one level at a time (HDF5 does not create intermediate groups by default).
+  for (std::size_t slash = path.find('/', 1); slash != std::string::npos; slash = path.find('/', slash + 1)) {
+    const std::string parent = path.substr(0, slash);
+    if (!exists(file, parent)) create_group(file, parent);
+  }
+  write_dataset(file, path, {dims.begin(), dims.end()}, values.data());
+  Dataset dataset = open_dataset(file, path);
+  for (const auto& [name, value] : attributes.items())
+    std::visit([&](const auto& v) { write_attribute(dataset.get(), name, v); }, value);
+}
+
 void TrajectoryWriter::flush() {
   hid_t file = impl_->id();
   impl_->flush_observables();

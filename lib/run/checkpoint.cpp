@@ -14,7 +14,7 @@ std::string checkpoint_path(const std::string& output) {
 }
 
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
-                      const std::string& signature) {
+                      const std::string& signature, const CheckpointExtra& extra) {
   const std::string temp = path + ".new";
   {
     io::TrajectoryWriter writer(temp);
@@ -31,6 +31,7 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     writer.write_grains(properties_of(engine.state()), engine.box());
     if (engine.box().periodic_y) writer.set_lees_edwards_rate(engine.rate());
     writer.append_frame(frame_of(engine, engine.step_count(), engine.time()));
+    if (extra) extra(writer);
     writer.close();
   }
   if (std::rename(temp.c_str(), path.c_str()) != 0)

@@ -4,6 +4,7 @@
 // exactly where it stood. Written to a temporary name and renamed, so a checkpoint
 // on disk is always complete.
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "dynamics/engine.hpp"
@@ -31,8 +32,11 @@ struct Checkpoint {
 // "<dir>/.<name>.checkpoint" beside an output path.
 std::string checkpoint_path(const std::string& output);
 
+// Adds a caller's own state to a checkpoint file (read back with a TrajectoryReader).
+using CheckpointExtra = std::function<void(io::TrajectoryWriter&)>;
+
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
-                      const std::string& signature);
+                      const std::string& signature, const CheckpointExtra& extra = {});
 // UsageError naming the file if it is not a checkpoint.
 Checkpoint read_checkpoint(const std::string& path);
 

@@ -33,7 +33,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
   auto save = [&] {
     stats.wall_seconds = wall_before + std::chrono::duration<double>(Clock::now() - start).count();
     writer.flush();
-    write_checkpoint(plan.checkpoint_path, engine, stats, plan.signature);
+    write_checkpoint(plan.checkpoint_path, engine, stats, plan.signature, plan.checkpoint_extra);
   };
   char status[128];
   while (engine.step_count() < plan.total_steps) {
@@ -43,6 +43,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     stats.max_residual = std::max(stats.max_residual, r.residual);
     if (!r.converged) ++stats.unconverged_steps;
     const std::int64_t n = engine.step_count();
+    if (plan.after_step) plan.after_step(engine);
     if (n % plan.observe_every == 0) {
       record_solver(engine, writer);
       observe(engine, writer);

@@ -21,6 +21,12 @@ struct RunPlan {
   std::string signature;           // stored in checkpoints (what a resume must match)
   double strain_per_step = 0;      // for the progress line (γ̇·dt); 0 shows time instead
   bool quiet = false;
+  // Called after every step, before anything is recorded (gf-incline: checks that no
+  // grain left the layer, samples the profiles); throws to abort the run. Optional.
+  std::function<void(const Engine&)> after_step;
+  // Writes the caller's own state (e.g. accumulated profiles) into every checkpoint,
+  // so that a resumed run continues it exactly. Optional.
+  CheckpointExtra checkpoint_extra;
 };
 
 // Records the geometry's observables of the engine's current step.

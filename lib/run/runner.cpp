@@ -1,0 +1,135 @@
+#include "run/runner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.hpp"
+
+namespace granflow {
+
+void add_contact_options(CommandLine& cli) {
+  cli.option("restitution", 0, "E", "normal restitution e in [0, 1]", "0.5");
+  cli.option("tangential-restitution", 0, "ET", "tangential restitution e_t in [-1, 1] (eq. 4.1)", "0");
+  cli.option("friction", 0, "MU", "Coulomb friction coefficient μ ≥ 0", "0");
+  cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
+  cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged",
+             "10000");
+  cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.1 mean diameter", "0");
+}
+
+Material material_option(const CommandLine& cli) {
+  Material material;
+  material.restitution = cli.real("restitution");
+  material.tangential_restitution = cli.real("tangential-restitution");
+  material.friction = cli.real("friction");
+  require_in_range("restitution", material.restitution, 0, 1, false, false);
+  require_in_range("tangential-restitution", material.tangential_restitution, -1, 1, false, false);
+  require_in_range("friction", material.friction, 0, INFINITY, false, true);
+  return material;
+}
+
+SolverSettings solver_option(const CommandLine& cli) {
+  SolverSettings settings;
+  settings.tolerance = cli.real("tolerance");
+  require_positive("tolerance", settings.tolerance);
+  settings.max_iterations = int(cli.integer("max-iterations"));
+  if (settings.max_iterations < 1) throw UsageError("option --max-iterations: must be >= 1");
+  settings.alert_distance = cli.real("alert-distance");
+  require_in_range("alert-distance", settings.alert_distance, 0, INFINITY, false, true);
+  return settings;
+}
+
+void add_run_options(CommandLine& cli, const std::string& observe_every) {
+  cli.option("frame-every", 0, "N", "steps between stored frames; 0 = 100 frames per run", "0");
+  cli.option("observe-every", 0, "N", "steps between observable rows", observe_every);
+  cli.option("checkpoint-every", 0, "SECONDS", "wall time between checkpoints (0: only on a signal)", "600");
+  cli.flag("resume", 0, "continue from the checkpoint of an interrupted run of the same command, if any");
+}
+
+std::string run_signature(const CommandLine& cli) {
+  std::string s;
+  for (const auto& [name, value] : cli.values())
+    if (name != "resume" && name != "checkpoint-every") s += name + "=" + value + ";";
+  return s;
+}
+
+RunPlan run_plan(const CommandLine& cli) {
+  const long long observe_every = cli.integer("observe-every");
+  if (observe_every < 1) throw UsageError("option --observe-every: must be >= 1");
+  long long frame_every = cli.integer("frame-every");
+  if (frame_every < 0) throw UsageError("option --frame-every: must be >= 0");
+  const double checkpoint_every = cli.real("checkpoint-every");
+  require_in_range("checkpoint-every", checkpoint_every, 0, INFINITY, false, true);
+  RunPlan plan;
+  plan.frame_every = frame_every;
+  plan.observe_every = observe_every;
+  plan.checkpoint_seconds = checkpoint_every;
+  plan.checkpoint_path = checkpoint_path(cli.text("output"));
+  plan.signature = run_signature(cli);
+  plan.quiet = cli.flag_set("quiet");
+  return plan;
+}
+
+void set_length(RunPlan& plan, std::int64_t total_steps) {
+  if (plan.frame_every == 0) plan.frame_every = std::max<std::int64_t>(1, total_steps / 100);
+  plan.total_steps = total_steps;
+}
+
+std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& plan, const OutputFile& out) {
+  if (!cli.flag_set("resume")) return std::nullopt;
+  if (!std::filesystem::exists(plan.checkpoint_path)) {
+    if (!plan.quiet)
+      std::fprintf(stderr, "%s: no checkpoint for '%s'; starting from the beginning\n", cli.program().c_str(),
+                   out.final_path().c_str());
+    return std::nullopt;
+  }
+  Checkpoint checkpoint = read_checkpoint(plan.checkpoint_path);
+  if (checkpoint.signature != plan.signature)
+    throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" +
+                     checkpoint.signature + "); run without --resume to start over");
+  if (!std::filesystem::exists(out.temp_path()))
+    throw UsageError("checkpoint '" + plan.checkpoint_path + "' has no partial trajectory '" + out.temp_path() +
+                     "' beside it; run without --resume to start over");
+  return checkpoint;
+}
+
+io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFile& out) {
+  return io::TrajectoryWriter::reopen_for_append(out.temp_path(), std::size_t(checkpoint.stats.frames_written),
+                                                 checkpoint.step);
+}
+
+RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile& out, const RunPlan& plan,
+                       RunStats stats, const Observer& observe) {
+  try {
+    return run_steps(engine, writer, plan, stats, observe);
+  } catch (const Interrupted&) {
+    out.keep_partial();
+    writer.close();
+    throw;
+  } catch (...) {
+    std::filesystem::remove(plan.checkpoint_path);
+    throw;
+  }
+}
+
+void finish_run(const CommandLine& cli, io::TrajectoryWriter& writer, OutputFile& out, const Engine& engine,
+                const RunStats& stats, const RunPlan& plan) {
+  write_run_summary(writer, engine, stats);
+  writer.close();
+  out.commit();
+  std::filesystem::remove(plan.checkpoint_path);
+
+  const char* program = cli.program().c_str();
+  const long long steps = plan.total_steps;
+  if (stats.unconverged_steps > 0)
+    std::fprintf(stderr, "%s: warning: %lld of %lld steps did not converge (largest residual %.2e)\n", program,
+                 (long long)stats.unconverged_steps, steps, stats.max_residual);
+  if (!plan.quiet)
+    std::fprintf(stderr, "%s: %lld steps, %.1f s, %.0f steps/s, %.1f sweeps/step -> %s\n", program, steps,
+                 stats.wall_seconds, double(steps) / std::max(stats.wall_seconds, 1e-9),
+                 double(stats.iterations) / double(steps), out.final_path().c_str());
+}
+
+}  // namespace granflow

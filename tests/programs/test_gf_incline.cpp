@@ -1,0 +1,228 @@
+// gf-incline as a user runs it: checkpoint/resume reproduces the uninterrupted run bit
+// for bit (profiles included), a grain leaving the layer fails the run (exit 1, no
+// output), and bad input fails with exit 2, one line and no output.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "io/trajectory.hpp"
+#include "programs/run_tool.hpp"
+
+using namespace granflow::testing;
+namespace io = granflow::io;
+
+namespace {
+// One incline start shared by the tests of this file.
+const std::string& packing() {
+  static ScratchDir dir("incline_packing");
+  static std::string path = [] {
+    std::string p = dir / "incline.h5";
+    EXPECT_EQ(run_tool("gf-pack", "--incline --width 10 --height 5 --seed 3 --quiet -o " + p).exit_code, 0);
+    return p;
+  }();
+  return path;
+}
+
+const std::string kRun = "--angle 20 --profile-block 500 --frame-every 500 --quiet";
+
+// Every dataset of /profiles and /profiles/blocks that gf-incline writes.
+const char* const kProfileArrays[] = {
+    "/profiles/y", "/profiles/packing_fraction", "/profiles/velocity_x", "/profiles/temperature",
+    "/profiles/stress_yy", "/profiles/shear_stress", "/profiles/inertial", "/profiles/blocks/index",
+    "/profiles/blocks/samples", "/profiles/blocks/flow_rate", "/profiles/blocks/contact_yy",
+    "/profiles/blocks/fluctuation_xx", "/profiles/blocks/mass_above"};
+}  // namespace
+
+TEST(GfInclineResume, InterruptedAndResumedEqualsUninterrupted) {
+  ScratchDir dir("incline_resume");
+  const std::string steps = " --steps 30000 ";
+  auto ref_run = run_tool("gf-incline", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5"));
+  ASSERT_EQ(ref_run.exit_code, 0) << ref_run.err;
+
+  const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
+  pid_t pid = start_tool("gf-incline", args, dir / "log1");
+  const std::string partial = dir / ".cut.h5.part";
+  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(pid, SIGINT);
+  const int code = wait_exit_code(pid);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "cut.h5")) << "an interrupted run left a finished-looking output";
+  ASSERT_TRUE(std::filesystem::exists(dir / ".cut.h5.checkpoint"));
+  // The checkpoint must carry profile blocks, or their restoration goes untested.
+  if (io::TrajectoryReader(dir / ".cut.h5.checkpoint").array("/profile_blocks/index").empty())
+    GTEST_SKIP() << "interrupted before the first profile sample";
+
+  auto resumed = run_tool("gf-incline", args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / ".cut.h5.checkpoint"));
+  EXPECT_FALSE(std::filesystem::exists(partial));
+
+  io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
+  ASSERT_EQ(ref.frame_count(), cut.frame_count());
+  for (std::size_t k = 0; k < ref.frame_count(); ++k) {
+    const io::Frame a = ref.frame(k), b = cut.frame(k);
+    ASSERT_EQ(a.position, b.position) << "frame " << k;
+    ASSERT_EQ(a.velocity, b.velocity) << "frame " << k;
+    ASSERT_EQ(a.angular_velocity, b.angular_velocity) << "frame " << k;
+    ASSERT_EQ(a.contacts.normal_force, b.contacts.normal_force) << "frame " << k;
+  }
+  for (const char* name : {"flow_rate", "kinetic_energy", "height", "solver_iterations"}) {
+    EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
+    EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
+  }
+  for (const char* name : kProfileArrays) {
+    std::vector<std::size_t> shape_ref, shape_cut;
+    const auto a = ref.array(name, &shape_ref), b = cut.array(name, &shape_cut);
+    EXPECT_EQ(shape_ref, shape_cut) << name;
+    // Bit for bit, NaN included.
+    ASSERT_EQ(a.size(), b.size()) << name;
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << name;
+  }
+  EXPECT_EQ(ref.attributes("/profiles").items(), cut.attributes("/profiles").items());
+}
+
+TEST(GfInclineProfiles, LayoutAndUnits) {
+  ScratchDir dir("incline_layout");
+  auto r = run_tool("gf-incline", "-i " + packing() + " --steps 2000 " + kRun + " -o " + (dir / "out.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader out(dir / "out.h5");
+  std::vector<std::size_t> shape;
+  const auto y = out.array("/profiles/y", &shape);
+  ASSERT_EQ(shape.size(), 1u);
+  for (const char* name : {"packing_fraction", "velocity_x", "temperature", "pressure", "shear_stress", "stress_xx",
+                           "stress_yy", "shear_rate", "s_over_p", "inertial", "mT_over_pR2", "weight_above"}) {
+    std::vector<std::size_t> s;
+    out.array(std::string("/profiles/") + name, &s);
+    EXPECT_EQ(s, shape) << name;
+  }
+  const auto blocks = out.array("/profiles/blocks/contact_yy", &shape);
+  EXPECT_EQ(shape[0], 4u);  // 2000 steps in blocks of 500
+  const io::Parameters a = out.attributes("/profiles");
+  for (const char* name : {"steady", "steady_from_time", "steady_from_tau", "tau", "bin", "blocks_averaged"})
+    EXPECT_TRUE(a.has(name)) << name;
+  EXPECT_EQ(out.observable_step("flow_rate").front(), 10);  // --observe-every defaults to 10
+}
+
+// ---- a grain leaving the layer: exit 1, a message naming it, no output ----
+
+namespace {
+// The shared packing with its highest grain launched upwards at vy; or, with a hole,
+// base grain 2 replaced by a small mobile grain thrown down (vy < 0) through the gap it
+// leaves. Writes it to path and returns the launched grain's index.
+std::string modified_packing(const std::string& path, double vy, bool hole) {
+  io::TrajectoryReader in(packing());
+  io::Frame f = in.frame(0);
+  io::GrainProperties g = in.grains();
+  std::size_t grain = 0;
+  if (hole) {
+    const double x = f.position[2].x();
+    f.position[2] = {x, 0.6};
+    g.radius[2] = 0.25;
+    g.mass[2] = M_PI * 0.25 * 0.25;
+    g.fixed[2] = 0;
+    grain = 2;
+  } else {
+    for (std::size_t i = 1; i < f.position.size(); ++i)
+      if (f.position[i].y() > f.position[grain].y()) grain = i;
+  }
+  f.velocity[grain] = {0.0, vy};
+  io::write_packing(path, f, g, io::Parameters{});
+  return std::to_string(grain);
+}
+}  // namespace
+
+TEST(GfInclineEscape, GrainThroughTheFreeSurfaceFailsTheRun) {
+  ScratchDir dir("incline_escape_up");
+  ScratchDir out("incline_escape_up_out");
+  const std::string grain = modified_packing(dir / "up.h5", 100, false);
+  auto r = run_tool("gf-incline", "-i " + (dir / "up.h5") + " --steps 2000 " + kRun + " -o " + (out / "out.h5"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("grain " + grain + " left through the free surface at step "), std::string::npos) << r.err;
+  EXPECT_EQ(out.entries(), 0) << "output, partial file or checkpoint left behind";
+}
+
+TEST(GfInclineEscape, GrainThroughTheBaseFailsTheRun) {
+  ScratchDir dir("incline_escape_down");
+  ScratchDir out("incline_escape_down_out");
+  const std::string grain = modified_packing(dir / "hole.h5", -50, true);
+  auto r = run_tool("gf-incline", "-i " + (dir / "hole.h5") + " --steps 2000 " + kRun + " -o " + (out / "out.h5"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("grain " + grain + " crossed the base at step "), std::string::npos) << r.err;
+  EXPECT_EQ(out.entries(), 0) << "output, partial file or checkpoint left behind";
+}
+
+// ---- bad input: exit 2, one line naming the problem, no output file left ----
+
+namespace {
+struct Case {
+  const char* name;
+  const char* args;  // {in} = a valid incline packing, {out} = the output path
+  const char* expected;
+};
+[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+}  // namespace
+
+class GfInclineBadInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GfInclineBadInput, FailsWithExitTwoOneLineNoOutput) {
+  const Case& c = GetParam();
+  ScratchDir dir(std::string("incline_bad_") + c.name);
+  std::string args = c.args;
+  for (auto [key, value] : {std::pair<std::string, std::string>{"{in}", packing()}, {"{out}", dir / "out.h5"}})
+    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
+  auto r = run_tool("gf-incline", args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, GfInclineBadInput,
+    ::testing::Values(Case{"angle_missing", "-i {in} -o {out}", "--angle"},
+                      Case{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
+                      Case{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
+                      Case{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},
+                      Case{"angle_nan", "-i {in} -o {out} --angle nan", "--angle"},
+                      Case{"gravity_zero", "-i {in} -o {out} --angle 12 --gravity 0", "--gravity"},
+                      Case{"gravity_negative", "-i {in} -o {out} --angle 12 --gravity -1", "--gravity"},
+                      Case{"restitution_above_one", "-i {in} -o {out} --angle 12 --restitution 1.5", "--restitution"},
+                      Case{"restitution_negative", "-i {in} -o {out} --angle 12 --restitution -0.1",
+                           "--restitution"},
+                      Case{"friction_negative", "-i {in} -o {out} --angle 12 --friction -1", "--friction"},
+                      Case{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
+                      Case{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
+                      Case{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
+                      Case{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
+                      Case{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200",
+                           "--from-time"},
+                      Case{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
+                      Case{"missing_input_option", "-o {out} --angle 12", "--input"},
+                      Case{"missing_input_file", "-i {out}.missing -o {out} --angle 12", "missing"}),
+    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+
+TEST(GfInclineBadInput, BadFiles) {
+  ScratchDir dir("incline_bad_files");
+  ScratchDir out_dir("incline_bad_files_out");
+  const std::string text = dir / "text.h5";
+  std::ofstream(text) << "not hdf5\n";
+  const std::string biperiodic = dir / "biperiodic.h5";
+  ASSERT_EQ(run_tool("gf-pack", "--grains 50 --packing-fraction 0.5 --quiet -o " + biperiodic).exit_code, 0);
+  for (auto [path, expected] :
+       {std::pair<std::string, std::string>{text, "text.h5"}, {biperiodic, "biperiodic packing"}}) {
+    auto r = run_tool("gf-incline", "-i " + path + " --angle 12 -o " + (out_dir / "out.h5"));
+    EXPECT_EQ(r.exit_code, 2) << path << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << path;
+  }
+}

@@ -1,0 +1,156 @@
+// gf-incline: flow of rigid disks down a rough incline under gravity by Contact Dynamics
+// (thesis §4.3), from an incline packing (gf-pack --incline) or a stored frame of a
+// gf-incline trajectory, with the steady depth profiles of §4.3.1–4.3.2.
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "core/cli.hpp"
+#include "core/output_file.hpp"
+#include "core/tool.hpp"
+#include "incline/observer.hpp"
+#include "incline/start.hpp"
+#include "io/provenance.hpp"
+#include "run/frames.hpp"
+#include "run/runner.hpp"
+
+using namespace granflow;
+
+int main(int argc, char** argv) {
+  return run_tool("gf-incline", [&] {
+    CommandLine cli("gf-incline", "-i INCLINE.h5 -o TRAJECTORY.h5 --angle THETA [options]",
+                    "Lets rigid disks flow down a rough incline: a base of fixed grains along x (periodic) at y = 0,\n"
+                    "tilted by θ, so that gravity is g(sin θ, −cos θ) in the frame of the base (x down the slope).\n"
+                    "Contact Dynamics as in gf-shear (restitution e, e_t, Coulomb friction μ; App. A). Time in\n"
+                    "units of τ = √(⟨R⟩/g), ⟨R⟩ the mobile grains' mean radius. Writes an H5MD trajectory: frames,\n"
+                    "observables (flow_rate, kinetic_energy, height, solver statistics), a /run summary, and\n"
+                    "/profiles: depth profiles of packing fraction, V_x, γ̇, T, stresses, the Bagnold invariants\n"
+                    "and the weight above each layer, averaged over x and over the steady part of the run (found\n"
+                    "by MSER truncation of flow_rate and kinetic_energy, or --from-time), with the time blocks\n"
+                    "they come from in /profiles/blocks. A grain leaving the layer (through the free surface\n"
+                    "above the box top, or through the base) stops the run with exit code 1.\n"
+                    "Ctrl-C or SIGTERM writes a checkpoint; the same command with --resume continues bit for bit.");
+    cli.option("input", 'i', "FILE", "incline packing (gf-pack --incline) or gf-incline trajectory to start from");
+    cli.option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
+    cli.option("output", 'o', "FILE", "trajectory to write");
+    cli.option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90)");
+    cli.option("gravity", 0, "G", "magnitude g of gravity > 0", "1");
+    cli.option("time", 0, "T", "duration in units of τ (ignored with --steps)", "2000");
+    cli.option("steps", 0, "N", "number of time steps (overrides --time)");
+    cli.option("time-step", 0, "DT", "time step in units of τ (ignored with --dt): ~1e-3 local strain per step", "2e-3");
+    cli.option("dt", 0, "DT", "time step in code units (overrides --time-step)");
+    add_contact_options(cli);
+    cli.option("profile-bin", 0, "H", "thickness of the profile layers, in mean diameters of the mobile grains", "3");
+    cli.option("profile-block", 0, "N", "steps per time block of the profiles (sampled at every step)", "5000");
+    cli.option("from-time", 0, "T", "average the profiles from this time (units of τ) instead of detecting it");
+    add_run_options(cli, "10");
+    if (!cli.parse(argc, argv)) return 0;
+
+    const Material material = material_option(cli);
+    const SolverSettings settings = solver_option(cli);
+    RunPlan plan = run_plan(cli);
+    const double angle = cli.real("angle");
+    require_in_range("angle", angle, 0, 90, true, true);
+    const double g = cli.real("gravity");
+    require_positive("gravity", g);
+    if (cli.given("dt")) require_positive("dt", cli.real("dt"));
+    const double time_step = cli.real("time-step");
+    require_positive("time-step", time_step);
+    if (cli.given("steps") && cli.integer("steps") < 1) throw UsageError("option --steps: must be >= 1");
+    const double bin = cli.real("profile-bin");
+    require_positive("profile-bin", bin);
+    const long long block = cli.integer("profile-block");
+    if (block < 1) throw UsageError("option --profile-block: must be >= 1");
+    std::optional<double> from_tau;
+    if (cli.given("from-time")) {
+      from_tau = cli.real("from-time");
+      require_in_range("from-time", *from_tau, 0, INFINITY, false, true);
+    }
+
+    const std::string input_path = cli.text("input");
+    io::TrajectoryReader input(input_path);
+    InclineStart start = incline_start(input, cli.integer("frame"));
+    const double tau = std::sqrt(start.mean_radius / g);
+    const double dt = cli.given("dt") ? cli.real("dt") : time_step * tau;
+    long long steps = 0;
+    if (cli.given("steps")) {
+      steps = cli.integer("steps");
+    } else {
+      const double duration = cli.real("time");
+      require_positive("time", duration);
+      steps = (long long)std::ceil(duration * tau / dt - 1e-9);
+    }
+    if (steps < block)
+      throw UsageError("option --profile-block: " + std::to_string(block) + " steps is longer than the run (" +
+                       std::to_string(steps) + " steps)");
+    const double last_block_start = double((steps - 1) / block * block) * dt;
+    if (from_tau && *from_tau * tau > last_block_start)
+      throw UsageError("option --from-time: " + std::to_string(*from_tau) + " τ is after the start of the last " +
+                       "profile block (" + std::to_string(last_block_start / tau) + " τ)");
+    set_length(plan, steps);
+
+    const InclineUnits units{dt, tau, g, start.mean_radius, start.mean_mass};
+    const Vec2 gravity = incline_gravity(g, angle);
+    ProfileAccumulator profiles(profile_grid(start.box, bin * 2 * start.mean_radius), block);
+    const std::string kBlocks = "/profile_blocks";
+    plan.after_step = [&](const Engine& e) { sample_incline(e, profiles); };
+    plan.checkpoint_extra = [&](io::TrajectoryWriter& w) { write_blocks(w, kBlocks, profiles); };
+
+    OutputFile out(cli.text("output"), /*resumable=*/true);
+    const std::optional<Checkpoint> resume_from = resume_point(cli, plan, out);
+
+    RunStats stats;
+    std::optional<Engine> engine;
+    std::optional<io::TrajectoryWriter> writer;
+    if (resume_from) {
+      engine.emplace(grains_of(resume_from->frame, resume_from->grains), resume_from->frame.box, 0.0, material,
+                     settings, dt, gravity);
+      engine->restore(resume_from->step, memory_of(resume_from->frame.contacts));
+      profiles.restore(read_blocks(io::TrajectoryReader(plan.checkpoint_path), kBlocks, profiles.grid()));
+      stats = resume_from->stats;
+      writer.emplace(reopen_output(*resume_from, out));
+    } else {
+      engine.emplace(start.grains, start.box, 0.0, material, settings, dt, gravity);
+      engine->restore(0, memory_of(start.contacts));
+      io::Parameters parameters = io::provenance(cli);
+      io::add_input(parameters, input_path);
+      parameters.set("mean_radius", start.mean_radius);
+      parameters.set("mean_mass", start.mean_mass);
+      parameters.set("tau", tau);
+      parameters.set("dt", dt);
+      parameters.set("grains", std::int64_t(start.grains.size() - start.base_grains));
+      parameters.set("base_grains", std::int64_t(start.base_grains));
+      parameters.set("total_steps", std::int64_t(steps));
+      parameters.set("gravity_x", gravity.x());
+      parameters.set("gravity_y", gravity.y());
+      parameters.set("profile_bin_length", profiles.grid().bin);
+      writer.emplace(out.temp_path());
+      writer->write_parameters(parameters);
+      writer->write_grains(properties_of(start.grains), start.box);
+      io::Frame first = frame_of(*engine, 0, 0.0);
+      first.contacts = start.contacts;
+      first.has_contacts = start.contacts.size() > 0;
+      writer->append_frame(first);
+      stats.frames_written = 1;
+    }
+
+    stats = run_resumable(*engine, *writer, out, plan, stats, record_incline_observables);
+    const std::optional<double> from_time = from_tau ? std::optional<double>(*from_tau * tau) : std::nullopt;
+    const ProfileAnalysis analysis = analyse_profiles(profiles, units, from_time);
+    write_profiles(*writer, profiles, analysis, units);
+
+    const double steady_tau = double(profiles.blocks()[analysis.steady.first].index * block) * dt / tau;
+    const std::size_t averaged = profiles.blocks().size() - analysis.steady.first;
+    if (!analysis.steady.steady)
+      std::fprintf(stderr,
+                   "gf-incline: warning: no steady state: flow_rate or kinetic_energy still drifts after t = %.4g τ "
+                   "(/profiles has steady = 0 and averages the %zu blocks from there)\n",
+                   steady_tau, averaged);
+    else if (!plan.quiet)
+      std::fprintf(stderr, "gf-incline: steady from t = %.4g τ%s; /profiles averages %zu blocks (%.4g τ)\n",
+                   steady_tau, analysis.chosen ? " (--from-time)" : " (MSER)", averaged,
+                   double(analysis.profiles.samples) * dt / tau);
+    finish_run(cli, *writer, out, *engine, stats, plan);
+    return 0;
+  });
+}
