@@ -1,0 +1,165 @@
+#!/usr/bin/env bash
+# Peer comparison gf-shear vs LAMMPS (stiff soft spheres); see bench/peer/README.md.
+#
+#   bash bench/peer/run.sh                # build, time LAMMPS (once, cached) and gf-shear, print tables
+#   bash bench/peer/run.sh convergence    # + the --strain-step × --tolerance study (slow at ν = 0.8)
+#   bash bench/peer/run.sh mach           # LAMMPS at MACH_SERIES too, for the M → 0 extrapolation
+#   bash bench/peer/run.sh table          # only print the tables from what is already in $OUT
+#
+# Environment (defaults in brackets):
+#   OUT [build-peer/peer]   scratch directory for every generated file (never committed)
+#   BUILD [build-peer]      CMake build directory (Release); SKIP_BUILD=1 uses it as it is
+#   NUS ["0.6 0.8"]  GRAINS [2000]  SEED [1]  STRAIN [10]  RESTITUTION [0.5]
+#   REPEAT [3]              gf-shear timing repetitions (a new set each call; older sets are kept)
+#   LAMMPS_REPEAT [3]       LAMMPS repetitions; done once, RERUN_LAMMPS=1 redoes them
+#   MACH [1e-3]  DT_FRACTION [0.02]   LAMMPS stiffness (Mach number) and dt / contact time
+#   MACH_SERIES ["2e-3 5e-4"]         further Mach numbers of the 'mach' mode (run once, then reused)
+#   CONV_STEPS ["4e-3 2e-3 1e-3 5e-4"]  CONV_TOLS ["1e-6 1e-8 1e-10"]  CONV_STRAIN [10]
+#                           convergence grid (existing runs are reused; CONV_RERUN=1 redoes them)
+#   CONV_EXTRA [""]         further grid directories (e.g. another build's OUT/conv) pooled into the fit
+# Timings are one process on one core (OMP_NUM_THREADS=1); the machine's load at the time is
+# recorded with each timing, since other work on the machine inflates wall times.
+set -euo pipefail
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HERE/../.." && pwd)"
+OUT="$(mkdir -p "${OUT:-$ROOT/build-peer/peer}" && cd "${OUT:-$ROOT/build-peer/peer}" && pwd)"
+BUILD="${BUILD:-$ROOT/build-peer}"
+NUS="${NUS:-0.6 0.8}"
+GRAINS="${GRAINS:-2000}"
+SEED="${SEED:-1}"
+STRAIN="${STRAIN:-10}"
+RESTITUTION="${RESTITUTION:-0.5}"
+REPEAT="${REPEAT:-3}"
+LAMMPS_REPEAT="${LAMMPS_REPEAT:-3}"
+MACH="${MACH:-1e-3}"
+DT_FRACTION="${DT_FRACTION:-0.02}"
+CONV_STEPS="${CONV_STEPS:-4e-3 2e-3 1e-3 5e-4}"
+CONV_TOLS="${CONV_TOLS:-1e-6 1e-8 1e-10}"
+CONV_STRAIN="${CONV_STRAIN:-10}"
+MACH_SERIES="${MACH_SERIES:-2e-3 5e-4}"
+PY=/usr/bin/python3
+PEER="$PY $HERE/peer.py"
+export OMP_NUM_THREADS=1
+MODE="${1:-timing}"
+
+log() { echo "[peer $(date +%H:%M:%S)] $*" >&2; }
+load() { cut -d' ' -f1 /proc/loadavg; }
+
+need() {
+  command -v lmp >/dev/null || { echo "LAMMPS missing: apt-get install -y lammps" >&2; exit 2; }
+  [ -x /usr/bin/time ] || { echo "/usr/bin/time missing: apt-get install -y time" >&2; exit 2; }
+  $PY -c 'import h5py, numpy' 2>/dev/null || { echo "need python3-h5py python3-numpy" >&2; exit 2; }
+}
+
+build() {
+  if [ "${SKIP_BUILD:-0}" != 1 ]; then
+    log "building gf-pack gf-shear in $BUILD"
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >"$OUT/build.log" 2>&1
+    cmake --build "$BUILD" -j2 --target gf-pack gf-shear >>"$OUT/build.log" 2>&1 ||
+      { tail -20 "$OUT/build.log" >&2; exit 1; }
+  fi
+  GF_PACK="$BUILD/bin/gf-pack"
+  GF_SHEAR="$BUILD/bin/gf-shear"
+  VERSION="$("$GF_SHEAR" --version | awk '{print $NF}')"
+  # identifies the engine build: hash of the gf-shear binary
+  GF_HASH="$(sha256sum "$GF_SHEAR" | cut -c1-12)"
+}
+
+packing() {  # $1 = nu -> path
+  local p="$OUT/pack_N${GRAINS}_nu$1_s$SEED.h5"
+  [ -s "$p" ] || "$GF_PACK" -o "$p" --grains "$GRAINS" --packing-fraction "$1" --seed "$SEED" --quiet
+  echo "$p"
+}
+
+# timings.tsv: tool nu repetition wall_s cpu_s load date binary-hash
+timing_row() { printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$@" >>"$OUT/timings.tsv"; }
+
+run_lammps() {
+  local nu=$1 pack dir r
+  pack=$(packing "$nu")
+  dir="$OUT/lmp_nu$nu"
+  $PEER deck "$pack" "$dir" --rate 1 --mach "$MACH" --restitution "$RESTITUTION" --strain "$STRAIN" \
+    --dt-fraction "$DT_FRACTION" >/dev/null
+  if [ "${RERUN_LAMMPS:-0}" = 1 ]; then
+    [ -f "$OUT/timings.tsv" ] && { grep -v -P "^lammps\t$nu\t" "$OUT/timings.tsv" >"$OUT/timings.tmp" || true; mv "$OUT/timings.tmp" "$OUT/timings.tsv"; }
+  elif [ -f "$OUT/timings.tsv" ] && grep -q -P "^lammps\t$nu\t" "$OUT/timings.tsv"; then
+    log "LAMMPS ν=$nu: timings already recorded (RERUN_LAMMPS=1 to redo)"
+    return
+  fi
+  for r in $(seq 1 "$LAMMPS_REPEAT"); do
+    log "LAMMPS ν=$nu run $r/$LAMMPS_REPEAT"
+    local l0; l0=$(load)
+    (cd "$dir" && /usr/bin/time -f "%e %U %S" -o time.txt lmp -in in.shear -log log.lammps -nocite -screen none)
+    read -r wall user sys <"$dir/time.txt"
+    timing_row lammps "$nu" "$r" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" "$(date -Is)" "lammps-$(lmp -h | sed -n 's/.*Simulator - \(.*\)$/\1/p' | tr ' ' '_')"
+  done
+}
+
+run_gf() {
+  local nu=$1 pack out r l0
+  pack=$(packing "$nu")
+  for r in $(seq 1 "$REPEAT"); do
+    out="$OUT/gf_nu${nu}.h5"
+    log "gf-shear ν=$nu run $r/$REPEAT"
+    l0=$(load)
+    rm -f "$out"
+    /usr/bin/time -f "%e %U %S" -o "$OUT/gf_time.txt" \
+      "$GF_SHEAR" -i "$pack" -o "$out" --strain "$STRAIN" --restitution "$RESTITUTION" --quiet
+    read -r wall user sys <"$OUT/gf_time.txt"
+    local ws; ws=$($PY -c "import h5py,sys; print(h5py.File(sys.argv[1],'r')['run'].attrs['wall_seconds'])" "$out")
+    timing_row gf-shear "$nu" "$r" "$ws" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" "$(date -Is)" "$GF_HASH $VERSION"
+  done
+}
+
+mach_series() {  # LAMMPS at further Mach numbers (physics only: the M → 0 extrapolation)
+  local nu M dir
+  for nu in $NUS; do
+    for M in $MACH_SERIES; do
+      dir="$OUT/lmp_nu${nu}_M$M"
+      if [ -s "$dir/series.txt" ] && grep -q "^run " "$dir/in.shear" && [ -s "$dir/time.txt" ]; then continue; fi
+      log "LAMMPS ν=$nu M=$M (physics only)"
+      $PEER deck "$(packing "$nu")" "$dir" --rate 1 --mach "$M" --restitution "$RESTITUTION" --strain "$STRAIN" \
+        --dt-fraction "$DT_FRACTION" >/dev/null
+      (cd "$dir" && /usr/bin/time -f "%e %U %S" -o time.txt lmp -in in.shear -log log.lammps -nocite -screen none)
+    done
+  done
+}
+
+convergence() {
+  local nu ds tol pack out
+  mkdir -p "$OUT/conv"
+  for nu in $NUS; do
+    pack=$(packing "$nu")
+    for tol in $CONV_TOLS; do
+      for ds in $CONV_STEPS; do
+        out="$OUT/conv/nu${nu}_ds${ds}_tol${tol}.h5"
+        if [ -s "$out" ] && [ "${CONV_RERUN:-0}" != 1 ]; then continue; fi
+        log "convergence ν=$nu --strain-step $ds --tolerance $tol"
+        "$GF_SHEAR" -i "$pack" -o "$out" --strain "$CONV_STRAIN" --restitution "$RESTITUTION" \
+          --strain-step "$ds" --tolerance "$tol" --frame-every 1000000 --quiet
+      done
+    done
+  done
+}
+
+table() {
+  local extra=() d
+  for d in ${CONV_EXTRA:-}; do extra+=(--extra-conv "$d"); done
+  $PY "$HERE/peer.py" report "$OUT" --nus "$NUS" "${extra[@]}"
+}
+
+need
+case "$MODE" in
+  table) table ;;
+  timing | convergence | all)
+    build
+    for nu in $NUS; do run_lammps "$nu"; done
+    for nu in $NUS; do run_gf "$nu"; done
+    if [ "$MODE" != timing ]; then convergence; fi
+    table
+    ;;
+  conv-only) build; convergence; table ;;
+  mach) build; mach_series; table ;;
+  *) echo "usage: bash bench/peer/run.sh [timing|convergence|conv-only|mach|table]" >&2; exit 2 ;;
+esac
