@@ -5,13 +5,34 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
+
 #include "core/error.hpp"
+#include "dynamics/capacity.hpp"
+#include "neighbours/cell_list.hpp"
 
 namespace granflow {
 
 namespace {
 
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// resize() under fit_capacity(); the contents are refilled by the caller.
+template <class T>
+void refill(std::vector<T>& v, std::size_t n) {
+  fit_capacity(v, n);
+  v.resize(n);
+}
+
+// std::round(x) for |x| < 2³¹ without a library call. It differs only for x within an ulp
+// of ±½, i.e. for separations of half the box, where no candidate pair ever is.
+inline int round_to_int(double x) { return int(x + (x < 0 ? -0.5 : 0.5)); }
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw UsageError(what);
@@ -37,6 +58,8 @@ void validate(const GrainState& s, const Box& box, double rate, const Material& 
   require(set.tolerance > 0 && std::isfinite(set.tolerance), "solver tolerance must be positive");
   require(set.max_iterations > 0, "solver max_iterations must be positive");
   require(set.alert_distance >= 0 && std::isfinite(set.alert_distance), "alert distance must be >= 0");
+  require(set.skin >= 0 && std::isfinite(set.skin), "pair-list skin must be >= 0");
+  require(set.threads >= 1, "solver threads must be >= 1");
   require(gravity.allFinite(), "gravity must be finite");
   for (std::size_t i = 0; i < n; ++i) {
     const std::string at = " (grain " + std::to_string(i) + ")";
@@ -71,120 +94,256 @@ Engine::Engine(GrainState state, Box box, double rate, Material material, Solver
     max_radius_ = std::max(max_radius_, state_.radius[i]);
     diameter_sum += 2 * state_.radius[i];
   }
-  alert_min_ = settings_.alert_distance > 0 ? settings_.alert_distance : 0.1 * diameter_sum / double(n);
+  const double mean_diameter = diameter_sum / double(n);
+  alert_min_ = settings_.alert_distance > 0 ? settings_.alert_distance : 0.1 * mean_diameter;
+  skin_ = settings_.skin > 0 ? settings_.skin : 0.3 * mean_diameter;
   const double cutoff = 2 * max_radius_ + alert_min_;
   require(box_.lx >= 2 * cutoff && (!box_.periodic_y || box_.ly >= 2 * cutoff),
           "box smaller than two contact-search cutoffs (2·R_max + alert distance)");
   for (std::size_t i = 0; i < n; ++i) box_.wrap(state_.position[i], state_.velocity[i], rate_);
   bodies_.resize(n);
-  detect();
+  body_of_.resize(n);
+  detect(false);
 }
 
-// Candidate pairs of the current state, sorted by (i, j); also measures the largest overlap.
-void Engine::detect() {
+// Candidate pairs of the current state, sorted by (i, j), from the pair list (rebuilt
+// if it might miss one); also measures the largest overlap. moved: the grains have
+// moved since the last call.
+void Engine::detect(bool moved) {
   const std::size_t n = state_.size();
-  double vmax = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    vmax = std::max(vmax, fluctuating_velocity(state_, box_, rate_, i).norm());
+  // max |ṽ| = √(max |ṽ|²), as fluctuating_velocity() computes ṽ.
+  double vmax2 = 0;
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
+    reduction(max : vmax2)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& v = state_.velocity[i];
+    const double vx = v.x() - rate_ * (state_.position[i].y() - 0.5 * box_.ly);
+    vmax2 = std::max(vmax2, vx * vx + v.y() * v.y());
+  }
+  const double vmax = std::sqrt(vmax2);
   // Relative velocity of two grains within the cutoff: fluctuations plus the shear across
   // at most one cutoff (and gravity against a fixed grain); factor 2 for safety, since
   // the post-step velocities are not known yet.
-  const double vrel = 2 * vmax + std::fabs(rate_) * (2 * max_radius_ + alert_min_) + dt_ * gravity_.norm();
-  alert_ = std::max(alert_min_, 2 * dt_ * vrel);
+  vrel_ = 2 * vmax + std::fabs(rate_) * (2 * max_radius_ + alert_min_) + dt_ * gravity_.norm();
+  alert_ = std::max(alert_min_, 2 * dt_ * vrel_);
   const double cutoff = 2 * max_radius_ + alert_;
   if (box_.lx < 2 * cutoff || (box_.periodic_y && box_.ly < 2 * cutoff))
     throw RuntimeFailure("grains move too fast for the box: contact-search cutoff " + std::to_string(cutoff) +
                          " exceeds half the box");
 
-  cells_.build(state_.position, box_, cutoff);
-  found_.clear();
-  double overlap = 0;
-  cells_.for_each_pair(state_.position, [&](int i, int j, const Vec2& d) {
-    if (state_.fixed[i] && state_.fixed[j]) return;
-    const double gap = d.norm() - state_.radius[i] - state_.radius[j];
-    if (gap >= alert_) return;
-    overlap = std::max(overlap, -gap);
-    int k = box_.periodic_y ? int(std::round((state_.position[i].y() - state_.position[j].y()) / box_.ly)) : 0;
-    if (i < j)
-      found_.push_back({i, j, k, d.x(), d.y()});
-    else
-      found_.push_back({j, i, -k, -d.x(), -d.y()});
-  });
-  overlap_ = overlap;
+  if (moved) {
+    // The step moved grain i by dt·v_i = dt·(ṽ_i + γ̇(y_i − Ly/2)x̂), y_i before the move,
+    // so the separation d of a pair changed by dt·(ṽ_i − ṽ_j + γ̇·d_y·x̂). vmax is measured
+    // after the move: before it |ṽ| ≤ vmax·(1 + |γ̇|dt). While a pair closes in from the
+    // list's reach to the alert distance, |d_y| ≤ 2R_max + reach + 2·dt·v.
+    const double v = vmax * (1 + std::fabs(rate_) * dt_);
+    drift_ += dt_ * (2 * v + std::fabs(rate_) * (2 * max_radius_ + reach_ + 2 * dt_ * v));
+  }
+  // Relative margin: gaps are compared with round-off.
+  report_.pairs_rebuilt = !(drift_ < reach_ - alert_ - 1e-9 * reach_);
+  if (report_.pairs_rebuilt) rebuild_pairs();
 
-  // Counting sort by i, then by j within each (short) bucket: O(candidates).
+  // Candidates change little from step to step: room for an eighth more than last time.
+  const std::size_t last = candidates_.size();
+  candidates_.clear();
+  fit_capacity(candidates_, last + last / 8);
+  double overlap = 0;
+  const int threads = settings_.threads;
+  if (threads == 1) {
+    overlap = select_candidates(0, pairs_.size(), candidates_);
+  } else {
+    // Blocks of pairs filtered in parallel, then joined in order.
+    constexpr std::size_t block = 8192;
+    candidate_blocks_.resize((pairs_.size() + block - 1) / block);
+    const std::ptrdiff_t blocks = std::ptrdiff_t(candidate_blocks_.size());
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : overlap)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+      candidate_blocks_[b].clear();
+      overlap = std::max(overlap, select_candidates(b * block, std::min(pairs_.size(), (b + 1) * block),
+                                                    candidate_blocks_[b]));
+    }
+    for (const auto& found : candidate_blocks_) candidates_.insert(candidates_.end(), found.begin(), found.end());
+  }
+  if (candidates_.capacity() > candidates_.size() + candidates_.size() / 2 + 64) candidates_.shrink_to_fit();  // after growth by doubling
+  overlap_ = overlap;
+}
+
+// Appends the pairs first … last − 1 of the list whose gap is below the alert distance;
+// returns their largest overlap.
+double Engine::select_candidates(std::size_t first, std::size_t last, std::vector<Candidate>& out) const {
+  const Vec2* position = state_.position.data();
+  const double* radius = state_.radius.data();
+  const double lx = box_.lx, ly = box_.ly, offset = box_.offset;
+  double overlap = 0;
+  for (std::size_t p = first; p < last; ++p) {
+    const auto [i, j] = pairs_[p];
+    // Box::minimum_image and the image index k, with the same arithmetic.
+    double dx = position[i].x() - position[j].x(), dy = position[i].y() - position[j].y();
+    int k = 0;
+    if (box_.periodic_y) {
+      k = round_to_int(dy / ly);
+      dy -= k * ly;
+      dx -= k * offset;
+    }
+    dx -= lx * round_to_int(dx / lx);
+    const double gap = std::sqrt(dx * dx + dy * dy) - radius[i] - radius[j];
+    if (gap >= alert_) continue;
+    overlap = std::max(overlap, -gap);
+    out.push_back({i, j, k, dx, dy});
+  }
+  return overlap;
+}
+
+// Pairs whose gap is below alert + skin (as far as the box allows), sorted by (i, j).
+void Engine::rebuild_pairs() {
+  const std::size_t n = state_.size();
+  const double half = 0.5 * (box_.periodic_y ? std::min(box_.lx, box_.ly) : box_.lx);
+  reach_ = std::max(alert_, std::min(alert_ + skin_, half - 2 * max_radius_));
+  drift_ = 0;
+  CellList cells;
+  cells.build(state_.position, box_, 2 * max_radius_ + reach_);
+  std::vector<std::array<int, 2>> found;
+  cells.for_each_pair(state_.position, [&](int i, int j, const Vec2& d) {
+    if (state_.fixed[i] && state_.fixed[j]) return;
+    if (d.norm() - state_.radius[i] - state_.radius[j] >= reach_) return;
+    found.push_back({std::min(i, j), std::max(i, j)});
+  });
+  // Counting sort by i, then by j within each (short) bucket: O(pairs).
   bucket_.assign(n + 1, 0);
-  for (const Candidate& c : found_) ++bucket_[c.i + 1];
+  for (const auto& p : found) ++bucket_[p[0] + 1];
   for (std::size_t i = 0; i < n; ++i) bucket_[i + 1] += bucket_[i];
-  candidates_.resize(found_.size());
-  for (const Candidate& c : found_) candidates_[bucket_[c.i]++] = c;
+  pairs_.resize(found.size());
+  for (const auto& p : found) pairs_[bucket_[p[0]]++] = p;
   // bucket_[i] now holds the end of bucket i, the start of bucket i + 1.
   int begin = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const int end = bucket_[i];
-    for (int a = begin + 1; a < end; ++a)
-      for (int b = a; b > begin && candidates_[b - 1].j > candidates_[b].j; --b)
-        std::swap(candidates_[b - 1], candidates_[b]);
+    std::sort(pairs_.begin() + begin, pairs_.begin() + end);
     begin = end;
   }
 }
 
-// Local problems of every candidate: normals, bounds, reduced masses, warm start.
+// Internal numbering of the grains by cells of a grid (row by row), so that the bodies of
+// neighbouring grains, and the contacts between them, lie close together in memory.
+void Engine::order_bodies() {
+  const int n = int(state_.size());
+  double y0 = 0, height = box_.ly;
+  if (!box_.periodic_y) {
+    const auto [lo, hi] = std::minmax_element(state_.position.begin(), state_.position.end(),
+                                              [](const Vec2& a, const Vec2& b) { return a.y() < b.y(); });
+    y0 = lo->y();
+    height = hi->y() - lo->y();
+  }
+  const double h = 2 * max_radius_;
+  const int columns = std::max(1, int(box_.lx / h));
+  const int rows = std::clamp(int(height / h), 1, std::max(1, 2 * n / columns));  // at most ~2n cells
+  const double to_column = columns / box_.lx, to_row = height > 0 ? rows / height : 0.0;
+  scratch_.resize(n);
+  bucket_.assign(std::size_t(columns) * rows + 1, 0);
+  for (int g = 0; g < n; ++g) {
+    const Vec2& r = state_.position[g];
+    const int column = std::clamp(int(r.x() * to_column), 0, columns - 1);
+    const int row = std::clamp(int((r.y() - y0) * to_row), 0, rows - 1);
+    scratch_[g] = row * columns + column;
+    ++bucket_[scratch_[g] + 1];
+  }
+  for (std::size_t c = 1; c < bucket_.size(); ++c) bucket_[c] += bucket_[c - 1];
+  for (int g = 0; g < n; ++g) body_of_[g] = bucket_[scratch_[g]]++;
+
+  // Sweep strips: whole cell rows, at least a contact reach (2R_max + alert) high, and an
+  // even number of them (or one), so that the two strips next to each other across the
+  // periodic boundary, the first and the last, have different parity.
+  const double row_height = height > 0 ? height / rows : h;
+  const int per_strip = std::max(1, int(std::ceil((2 * max_radius_ + alert_) / row_height)));
+  strips_ = rows / per_strip;
+  strips_ = strips_ > 1 ? strips_ - strips_ % 2 : 1;
+  strip_of_.resize(n);
+  for (int g = 0; g < n; ++g) strip_of_[body_of_[g]] = std::min(scratch_[g] / columns / per_strip, strips_ - 1);
+}
+
+// Local problems of every candidate: normals, bounds, reduced masses, warm start. Rows are
+// stored in sweep order: by the first body of the pair, ties in candidate order.
 void Engine::build_rows() {
-  const double e = material_.restitution, et = material_.tangential_restitution;
-  const std::size_t count = candidates_.size();
-  rows_.resize(count);
-  row_age_.resize(count);
-  std::size_t p = 0;  // cursor into the previous step's memory (same sort order)
+  const std::size_t count = candidates_.size(), n = state_.size();
+  bucket_.assign(n + 1, 0);
+  for (const Candidate& k : candidates_) ++bucket_[std::min(body_of_[k.i], body_of_[k.j]) + 1];
+  for (std::size_t b = 0; b < n; ++b) bucket_[b + 1] += bucket_[b];
+  refill(row_of_, count);
   for (std::size_t c = 0; c < count; ++c) {
     const Candidate& k = candidates_[c];
-    const int i = k.i, j = k.j;
-    const double dist = std::sqrt(k.dx * k.dx + k.dy * k.dy);
-    const double nx = k.dx / dist, ny = k.dy / dist;
-    const double ri = state_.radius[i], rj = state_.radius[j];
-    const double gap = dist - ri - rj;
-    const double shift = k.image * rate_ * box_.ly;  // x-velocity of j's image relative to j
-    const double dvx = state_.velocity[i].x() - state_.velocity[j].x() - shift;
-    const double dvy = state_.velocity[i].y() - state_.velocity[j].y();
-    const double un = dvx * nx + dvy * ny;
-    const double ut = -dvx * ny + dvy * nx - (ri * state_.angular_velocity[i] + rj * state_.angular_velocity[j]);
-    double bn;
-    if (gap <= 0 || gap + dt_ * un <= 0)
-      bn = un < 0 ? -e * un : 0.0;
-    else
-      bn = -gap / dt_;
-    const double wi = state_.fixed[i] ? 0.0 : 1.0 / state_.mass[i];
-    const double wj = state_.fixed[j] ? 0.0 : 1.0 / state_.mass[j];
+    row_of_[c] = bucket_[std::min(body_of_[k.i], body_of_[k.j])]++;
+  }
+  refill(rows_, count);
+  refill(row_age_, count);
+  refill(row_strip_, count);
+  // Chunks of candidates, each with its own cursor into the previous step's memory (same
+  // sort order), so that threads can share them.
+  constexpr std::ptrdiff_t chunk = 4096;
+  const std::ptrdiff_t chunks = (std::ptrdiff_t(count) + chunk - 1) / chunk;
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    const std::size_t first = h * chunk, last = std::min(count, std::size_t(first + chunk));
+    std::size_t p = std::lower_bound(prev_key_.begin(), prev_key_.end(),
+                                     pair_key(candidates_[first].i, candidates_[first].j)) - prev_key_.begin();
+    for (std::size_t c = first; c < last; ++c) build_row(c, p);
+  }
+}
 
-    Row& r = rows_[c];
-    r.i = i;
-    r.j = j;
-    r.nx = nx;
-    r.ny = ny;
-    // The solver works on raw velocity differences: move the image shift into the bounds.
-    r.bn = bn + shift * nx;
-    r.bt = et * ut - shift * ny;
-    r.inv_w = 1.0 / (wi + wj);
-    r.pn = 0;
-    r.pt = 0;
-    row_age_[c] = 0;
-    const std::uint64_t key = pair_key(i, j);
-    while (p < prev_key_.size() && prev_key_[p] < key) ++p;
-    if (p < prev_key_.size() && prev_key_[p] == key) {
-      // Warm start from the recorded forces, so that a run restarted from a stored
-      // frame (forces, not impulses, are on file) starts from the very same numbers.
-      r.pn = prev_fn_[p] * dt_;
-      r.pt = prev_ft_[p] * dt_;
-      row_age_[c] = prev_age_[p];
-    }
+// Row of candidate c, warm-started from the previous step's memory found at or after p.
+void Engine::build_row(std::size_t c, std::size_t& p) {
+  const double e = material_.restitution, et = material_.tangential_restitution;
+  const Candidate& k = candidates_[c];
+  const int i = k.i, j = k.j;
+  const double dist = std::sqrt(k.dx * k.dx + k.dy * k.dy);
+  const double nx = k.dx / dist, ny = k.dy / dist;
+  const double ri = state_.radius[i], rj = state_.radius[j];
+  const double gap = dist - ri - rj;
+  const double shift = k.image * rate_ * box_.ly;  // x-velocity of j's image relative to j
+  const double dvx = state_.velocity[i].x() - state_.velocity[j].x() - shift;
+  const double dvy = state_.velocity[i].y() - state_.velocity[j].y();
+  const double un = dvx * nx + dvy * ny;
+  const double ut = -dvx * ny + dvy * nx - (ri * state_.angular_velocity[i] + rj * state_.angular_velocity[j]);
+  double bn;
+  if (gap <= 0 || gap + dt_ * un <= 0)
+    bn = un < 0 ? -e * un : 0.0;
+  else
+    bn = -gap / dt_;
+  const double wi = state_.fixed[i] ? 0.0 : 1.0 / state_.mass[i];
+  const double wj = state_.fixed[j] ? 0.0 : 1.0 / state_.mass[j];
+
+  Row& r = rows_[row_of_[c]];
+  r.i = body_of_[i];
+  r.j = body_of_[j];
+  // Its strip: that of its lower body, as a contact spans at most two neighbouring strips;
+  // across the periodic boundary (the first and the last strip), the last.
+  const int si = strip_of_[r.i], sj = strip_of_[r.j];
+  row_strip_[row_of_[c]] = std::abs(si - sj) <= 1 ? std::min(si, sj) : std::max(si, sj);
+  r.nx = nx;
+  r.ny = ny;
+  // The solver works on raw velocity differences: move the image shift into the bounds.
+  r.bn = bn + shift * nx;
+  r.bt = et * ut - shift * ny;
+  r.inv_w = 1.0 / (wi + wj);
+  r.pn = 0;
+  r.pt = 0;
+  row_age_[c] = 0;
+  const std::uint64_t key = pair_key(i, j);
+  while (p < prev_key_.size() && prev_key_[p] < key) ++p;
+  if (p < prev_key_.size() && prev_key_[p] == key) {
+    // Warm start from the recorded forces, so that a run restarted from a stored
+    // frame (forces, not impulses, are on file) starts from the very same numbers.
+    r.pn = prev_fn_[p] * dt_;
+    r.pt = prev_ft_[p] * dt_;
+    row_age_[c] = prev_age_[p];
   }
 }
 
 // Free velocities, plus the warm-start impulses.
 void Engine::load_bodies() {
   const std::size_t n = state_.size();
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    Body& b = bodies_[i];
+    Body& b = bodies_[body_of_[i]];
     const bool mobile = !state_.fixed[i];
     b.vx = state_.velocity[i].x() + (mobile ? dt_ * gravity_.x() : 0.0);
     b.vy = state_.velocity[i].y() + (mobile ? dt_ * gravity_.y() : 0.0);
@@ -233,66 +392,351 @@ inline double correction(const Row& r, const Local& l) {
 
 }  // namespace
 
-double Engine::sweep(bool forward) {
-  const double mu = material_.friction;
+// The rows the sweeps visit: contacts carrying a warm-start impulse and pairs whose normal
+// constraint, at the free velocities, is violated or within v_rel (the bound on relative
+// velocities) of binding. Any other row keeps P = 0 unless the impulses of the step change
+// its u_n by more than that; check() then finds it and lets it join.
+void Engine::select_working_set() {
   const std::ptrdiff_t count = std::ptrdiff_t(rows_.size());
-  const std::ptrdiff_t first = forward ? 0 : count - 1, stride = forward ? 1 : -1;
+  in_work_.resize(count);
+  hot_.assign(count, 1);
+  unknown_.assign(count, -1);
+  reorder_loops_ = false;
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
+  for (std::ptrdiff_t c = 0; c < count; ++c) {
+    const Row& r = rows_[c];
+    const Body &a = bodies_[r.i], &b = bodies_[r.j];
+    const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
+    in_work_[c] = r.pn > 0 || un - r.bn < vrel_;
+  }
+  group_working_set();
+}
+
+// Lists the working set strip by strip, rows ascending within each: the order of the sweeps.
+void Engine::group_working_set() {
+  work_start_.assign(strips_ + 1, 0);
+  for (std::size_t c = 0; c < rows_.size(); ++c)
+    if (in_work_[c]) ++work_start_[row_strip_[c] + 1];
+  for (int t = 0; t < strips_; ++t) work_start_[t + 1] += work_start_[t];
+  work_.resize(work_start_[strips_]);
+  bucket_.assign(work_start_.begin(), work_start_.end() - 1);
+  for (std::size_t c = 0; c < rows_.size(); ++c)
+    if (in_work_[c]) work_[bucket_[row_strip_[c]]++] = int(c);
+}
+
+// One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
+// the other; backwards, the exact reverse. Returns the largest correction made. The
+// frictionless sweep also counts status changes (P_n > 0 or not) and active rows, and marks
+// the rows still corrected by Υ or more, for the cluster solves.
+template <bool Friction>
+double Engine::sweep(bool forward, double upsilon) {
+  const double mu = material_.friction;
+  const int* work = work_.data();
+  const int* start = work_start_.data();
   Body* bodies = bodies_.data();
   Row* rows = rows_.data();
+  std::uint8_t* hot = hot_.data();
+  const int threads = settings_.threads;
   double worst = 0;
-  for (std::ptrdiff_t c = first; c >= 0 && c < count; c += stride) {
-    Row& r = rows[c];
-    Body& a = bodies[r.i];
-    Body& b = bodies[r.j];
-    const Local l = local_solve(r, a, b, mu);
-    const double dpn = l.pn - r.pn, dpt = l.pt - r.pt;
-    // Compare before dividing: the division is only needed for a new maximum.
-    const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
-    if (d > worst * r.inv_w) worst = d / r.inv_w;
-    r.pn = l.pn;
-    r.pt = l.pt;
-    const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
-    a.vx += a.inv_mass * px;
-    a.vy += a.inv_mass * py;
-    a.spin -= 2 * a.inv_mass * dpt;
-    b.vx -= b.inv_mass * px;
-    b.vy -= b.inv_mass * py;
-    b.spin -= 2 * b.inv_mass * dpt;
+  int changes = 0, active = 0;
+  for (int half = 0; half < 2; ++half) {
+    const int parity = forward ? half : 1 - half;
+    const int count = (strips_ - parity + 1) / 2;  // strips of this parity
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) \
+    reduction(max : worst) reduction(+ : changes, active)
+    for (int t = 0; t < count; ++t) {
+      const int strip = parity + 2 * t, first = start[strip], last = start[strip + 1];
+      for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
+        const int c = work[q];
+        Row& r = rows[c];
+        Body& a = bodies[r.i];
+        Body& b = bodies[r.j];
+        const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
+        const double un = dvx * r.nx + dvy * r.ny;
+        const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
+        const double dpn = pn - r.pn;
+        if constexpr (Friction) {
+          const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
+          const double limit = mu * pn;
+          const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
+          const double dpt = pt - r.pt;
+          // Compare before dividing: the division is only needed for a new maximum.
+          const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
+          if (d > worst * r.inv_w) worst = d / r.inv_w;
+          r.pn = pn;
+          r.pt = pt;
+          const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
+          a.vx += a.inv_mass * px;
+          a.vy += a.inv_mass * py;
+          a.spin -= 2 * a.inv_mass * dpt;
+          b.vx -= b.inv_mass * px;
+          b.vy -= b.inv_mass * py;
+          b.spin -= 2 * b.inv_mass * dpt;
+        } else {
+          // μ = 0: P_t stays 0 and the spins never change.
+          const double d = std::fabs(dpn);
+          if (d > worst * r.inv_w) worst = d / r.inv_w;
+          changes += (pn > 0) != (r.pn > 0);
+          active += pn > 0;
+          hot[c] = d >= upsilon * r.inv_w;
+          r.pn = pn;
+          const double px = dpn * r.nx, py = dpn * r.ny;
+          a.vx += a.inv_mass * px;
+          a.vy += a.inv_mass * py;
+          b.vx -= b.inv_mass * px;
+          b.vy -= b.inv_mass * py;
+        }
+      }
+    }
   }
+  status_changes_ = changes;
+  active_rows_ = active;
   return worst;
 }
 
-// Largest correction any contact would still make, without changing anything.
-double Engine::residual() const {
+// Largest correction a local solve would still make on the current velocities, over every
+// row (everywhere) or over the rows outside the working set; rows outside it that would
+// change join it.
+double Engine::check(bool everywhere) {
   const double mu = material_.friction;
+  const std::ptrdiff_t count = std::ptrdiff_t(rows_.size());
   double worst = 0;
-  for (const Row& r : rows_)
-    worst = std::max(worst, correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu)));
+  std::int64_t visited = 0;
+  bool joined = false;
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
+    reduction(max : worst) reduction(+ : visited) reduction(|| : joined)
+  for (std::ptrdiff_t c = 0; c < count; ++c) {
+    if (!everywhere && in_work_[c]) continue;
+    const Row& r = rows_[c];
+    const double corr = correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu));
+    worst = std::max(worst, corr);
+    ++visited;
+    if (corr > 0 && !in_work_[c]) {
+      in_work_[c] = 1;
+      hot_[c] = 1;
+      joined = true;
+    }
+  }
+  report_.contact_updates += visited;
+  if (joined) group_working_set();
   return worst;
+}
+
+// One exact solve, for the current active set, of each cluster of active contacts (joined
+// through mobile grains) in which some contact was still corrected by Υ or more in the last
+// sweep: W_AA·ΔP_A = b_A − u_A on the normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
+// Returns false, changing nothing, when the factor would be too large to pay off.
+bool Engine::solve_clusters() {
+  const int n = int(bodies_.size());
+  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
+  // Clusters of the active rows (all in the working set), by union–find over bodies.
+  active_.clear();
+  for (int c : work_)
+    if (rows_[c].pn > 0) active_.push_back(c);
+  cluster_.resize(n);
+  for (int b = 0; b < n; ++b) cluster_[b] = b;
+  auto root = [&](int b) {
+    while (cluster_[b] != b) b = cluster_[b] = cluster_[cluster_[b]];
+    return b;
+  };
+  for (int c : active_) {
+    const Row& r = rows_[c];
+    if (mobile(r.i) && mobile(r.j)) {
+      const int a = root(r.i), b = root(r.j);
+      if (a != b) cluster_[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // A row belongs to the cluster of a mobile body of it (a fixed body couples nothing).
+  auto cluster_of = [&](const Row& r) { return root(mobile(r.i) ? r.i : r.j); };
+  hot_cluster_.assign(n, 0);
+  for (int c : active_)
+    if (hot_[c]) hot_cluster_[cluster_of(rows_[c])] = 1;
+
+  // Unknowns: the active rows of hot clusters, listed per mobile body.
+  cluster_start_.assign(n + 1, 0);
+  int m = 0;
+  for (int c : active_) {
+    const Row& r = rows_[c];
+    if (!hot_cluster_[cluster_of(r)]) continue;
+    active_[m++] = c;
+    if (mobile(r.i)) ++cluster_start_[r.i + 1];
+    if (mobile(r.j)) ++cluster_start_[r.j + 1];
+  }
+  active_.resize(m);
+  if (m == 0) return true;
+  for (int b = 0; b < n; ++b) cluster_start_[b + 1] += cluster_start_[b];
+  refill(cluster_rows_, cluster_start_[n]);
+  degree_.assign(n, 0);
+  for (int c : active_)
+    for (int b : {rows_[c].i, rows_[c].j})
+      if (mobile(b)) cluster_rows_[cluster_start_[b] + degree_[b]++] = c;
+
+  // Numbering (unknown_row_[k] = row of unknown k): first peel leaves, bodies left with a
+  // single unnumbered row, since such a row eliminates without fill-in (clusters are mostly
+  // trees); then the loops that remain, in sweep order.
+  unknown_row_.clear();
+  auto number = [&](int c) {
+    unknown_[c] = int(unknown_row_.size());
+    unknown_row_.push_back(c);
+  };
+  peel_.clear();
+  for (int b = 0; b < n; ++b)
+    if (degree_[b] == 1) peel_.push_back(b);
+  for (std::size_t q = 0; q < peel_.size(); ++q) {
+    const int b = peel_[q];
+    for (int p = cluster_start_[b]; p < cluster_start_[b + 1]; ++p) {
+      const int c = cluster_rows_[p];
+      if (unknown_[c] >= 0) continue;
+      number(c);
+      const int other = rows_[c].i == b ? rows_[c].j : rows_[c].i;
+      if (mobile(other) && --degree_[other] == 1) peel_.push_back(other);
+    }
+  }
+  const int peeled = int(unknown_row_.size());
+  for (int c : active_)
+    if (unknown_[c] < 0) number(c);
+
+  // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in
+  // sweep order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
+  // approximate minimum degree (for the rest of the step at once: the active set changes
+  // little between its solves); beyond 8 even then, Gauss–Seidel alone is cheaper.
+  auto factor = [&](std::size_t fill) {
+    assemble_clusters();
+    return ldl_.factor(m, matrix_start_, matrix_row_, matrix_value_, 1e-9, fill * matrix_row_.size() + 1024);
+  };
+  bool factored = !reorder_loops_ && factor(4);
+  if (!factored && peeled < m) {
+    reorder_loops_ = true;
+    order_loops(peeled);
+    factored = factor(8);
+  }
+  if (factored) {
+    ldl_.solve(rhs_);
+    for (int k = 0; k < m; ++k) {
+      Row& r = rows_[unknown_row_[k]];
+      const double pn = std::max(0.0, r.pn + rhs_[k]);
+      const double dpn = pn - r.pn;
+      r.pn = pn;
+      Body& a = bodies_[r.i];
+      Body& b = bodies_[r.j];
+      a.vx += a.inv_mass * dpn * r.nx;
+      a.vy += a.inv_mass * dpn * r.ny;
+      b.vx -= b.inv_mass * dpn * r.nx;
+      b.vy -= b.inv_mass * dpn * r.ny;
+    }
+  }
+  for (int c : unknown_row_) unknown_[c] = -1;
+  return factored;
+}
+
+// The clusters' matrix, upper triangle by columns in unknown order, and right-hand side:
+// W_ab = Σ over the mobile bodies shared by rows a and b of s_a·s_b·(n̂_a·n̂_b)/m, with
+// s = +1 for the body of grain i, −1 for that of grain j; b_a − u_a at the current velocities.
+void Engine::assemble_clusters() {
+  const int m = int(unknown_row_.size());
+  matrix_start_.assign(m + 1, 0);
+  matrix_row_.clear();
+  matrix_value_.clear();
+  // Room for the entries: at most d(d + 1)/2 from a body with d rows.
+  std::size_t entries = 0;
+  for (std::size_t b = 0; b + 1 < cluster_start_.size(); ++b) {
+    const std::size_t d = cluster_start_[b + 1] - cluster_start_[b];
+    entries += d * (d + 1) / 2;
+  }
+  fit_capacity(matrix_row_, entries);
+  fit_capacity(matrix_value_, entries);
+  rhs_.resize(m);
+  for (int k = 0; k < m; ++k) {
+    const Row& a = rows_[unknown_row_[k]];
+    const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
+    rhs_[k] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
+    for (int body : {a.i, a.j}) {
+      const double inv_mass = bodies_[body].inv_mass;
+      if (inv_mass == 0) continue;
+      const double sa = body == a.i ? 1.0 : -1.0;
+      for (int p = cluster_start_[body]; p < cluster_start_[body + 1]; ++p) {
+        const int other = unknown_[cluster_rows_[p]];
+        if (other > k) continue;
+        const Row& b = rows_[cluster_rows_[p]];
+        const double sb = body == b.i ? 1.0 : -1.0;
+        matrix_row_.push_back(other);
+        matrix_value_.push_back(sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
+      }
+    }
+    matrix_start_[k + 1] = int(matrix_row_.size());
+  }
+}
+
+// Reorders the unknowns from `first` on (the loops left after peeling) by approximate
+// minimum degree (Eigen's AMD) on their coupling pattern.
+void Engine::order_loops(int first) {
+  const int q = int(unknown_row_.size()) - first;
+  std::vector<Eigen::Triplet<double>> pattern;
+  for (int t = 0; t < q; ++t) {
+    const Row& a = rows_[unknown_row_[first + t]];
+    for (int body : {a.i, a.j}) {
+      if (bodies_[body].inv_mass == 0) continue;
+      for (int p = cluster_start_[body]; p < cluster_start_[body + 1]; ++p) {
+        const int u = unknown_[cluster_rows_[p]] - first;
+        if (u >= 0 && u <= t) pattern.emplace_back(t, u, 1.0);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> loops(q, q);
+  loops.setFromTriplets(pattern.begin(), pattern.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  Eigen::AMDOrdering<int>()(loops, order);  // order.indices()[k]: the k-th to eliminate
+  active_.assign(unknown_row_.begin() + first, unknown_row_.end());
+  for (int k = 0; k < q; ++k) {
+    const int c = active_[order.indices()[k]];
+    unknown_row_[first + k] = c;
+    unknown_[c] = first + k;
+  }
 }
 
 void Engine::solve() {
   StepReport& rep = report_;
   rep.iterations = 0;
   rep.contact_updates = 0;
+  rep.cluster_solves = 0;
   rep.residual = 0;
   rep.converged = true;
   if (rows_.empty()) return;
   const double upsilon = settings_.tolerance / dt_;
+  const bool friction = material_.friction > 0;
+  bool clusters = settings_.cluster_solves && !friction;
+  int next_cluster_solve = 2, cluster_wait = 1;
+  select_working_set();
   for (int it = 1; it <= settings_.max_iterations; ++it) {
-    const double worst = sweep(it % 2 == 1);  // alternate directions: symmetric Gauss–Seidel
+    const bool forward = it % 2 == 1;  // alternate directions: symmetric Gauss–Seidel
+    const double worst = friction ? sweep<true>(forward, upsilon) : sweep<false>(forward, upsilon);
     rep.iterations = it;
-    rep.contact_updates += std::int64_t(rows_.size());
-    // A sweep's own corrections only bound the residual; confirm on the final velocities.
+    rep.contact_updates += std::int64_t(work_.size());
     if (worst < upsilon) {
-      const double res = residual();
+      // A sweep's own corrections only bound the residual; confirm on the final velocities,
+      // on every candidate.
+      const double res = check(true);
       if (res < upsilon) {
         rep.residual = res * dt_;
         return;
       }
+    } else if (clusters && it >= next_cluster_solve && 100 * status_changes_ <= active_rows_) {
+      // The active set has (nearly) settled: solve its clusters exactly. While it keeps
+      // changing, each solve waits twice as many sweeps as the one before, so that their
+      // number stays logarithmic in the sweeps of the step.
+      clusters = solve_clusters();
+      rep.cluster_solves += clusters;
+      next_cluster_solve = it + cluster_wait;
+      cluster_wait *= 2;
+    } else if (it % 16 == 0) {
+      // Rows outside the working set join early, not only when it has converged without them.
+      check(false);
     }
   }
-  rep.residual = residual() * dt_;
+  // Out of sweeps; a cluster solve after the last one may still have converged.
+  const double res = check(true);
+  rep.residual = res * dt_;
+  if (res < upsilon) return;
   rep.converged = false;
   ++unconverged_;
 }
@@ -304,18 +748,32 @@ void Engine::record_contacts() {
   prev_fn_.clear();
   prev_ft_.clear();
   prev_age_.clear();
+  std::size_t contacts = 0;
+  for (const Row& r : rows_) contacts += r.pn > 0;
+  fit_capacity(records_.pair, contacts);
+  fit_capacity(records_.normal_force, contacts);
+  fit_capacity(records_.tangential_force, contacts);
+  fit_capacity(records_.branch, contacts);
+  fit_capacity(records_.binary_force, contacts);
+  fit_capacity(records_.pre_normal_velocity, contacts);
+  fit_capacity(records_.age, contacts);
+  fit_capacity(prev_key_, contacts);
+  fit_capacity(prev_fn_, contacts);
+  fit_capacity(prev_ft_, contacts);
+  fit_capacity(prev_age_, contacts);
   const double e = material_.restitution;
-  for (std::size_t c = 0; c < rows_.size(); ++c) {
-    const Row& r = rows_[c];
+  for (std::size_t c = 0; c < candidates_.size(); ++c) {
+    const Row& r = rows_[row_of_[c]];
     if (!(r.pn > 0)) continue;
     const Candidate& k = candidates_[c];
+    const int i = k.i, j = k.j;
     const int age = row_age_[c] + 1;
     const Vec2 n(r.nx, r.ny);
-    const Vec2 vi = fluctuating_velocity(state_, box_, rate_, r.i);
-    const Vec2 vj = fluctuating_velocity(state_, box_, rate_, r.j);
+    const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
+    const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
     const double shift = k.image * rate_ * box_.ly;
-    const double un = (state_.velocity[r.i] - state_.velocity[r.j]).dot(n) - shift * r.nx;
-    records_.pair.push_back({r.i, r.j});
+    const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
+    records_.pair.push_back({i, j});
     const double fn = r.pn / dt_, ft = r.pt / dt_;
     records_.normal_force.push_back(fn);
     records_.tangential_force.push_back(ft);
@@ -323,7 +781,7 @@ void Engine::record_contacts() {
     records_.binary_force.push_back((1 + e) * r.inv_w * std::max(0.0, -un) / dt_);
     records_.pre_normal_velocity.push_back({vi.dot(n), vj.dot(n)});
     records_.age.push_back(age);
-    prev_key_.push_back(pair_key(r.i, r.j));
+    prev_key_.push_back(pair_key(i, j));
     prev_fn_.push_back(fn);
     prev_ft_.push_back(ft);
     prev_age_.push_back(age);
@@ -333,8 +791,9 @@ void Engine::record_contacts() {
 }
 
 void Engine::store_bodies() {
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::size_t i = 0; i < state_.size(); ++i) {
-    const Body& b = bodies_[i];
+    const Body& b = bodies_[body_of_[i]];
     state_.velocity[i] = Vec2(b.vx, b.vy);
     // Only grains that felt a tangential impulse change ω: s/R would otherwise perturb ω in the last bit.
     if (b.spin != state_.radius[i] * state_.angular_velocity[i]) state_.angular_velocity[i] = b.spin / state_.radius[i];
@@ -343,29 +802,53 @@ void Engine::store_bodies() {
 
 void Engine::advance() {
   if (box_.periodic_y) box_.shift_offset(rate_ * box_.ly * dt_);
-  for (std::size_t i = 0; i < state_.size(); ++i) {
+  const std::ptrdiff_t n = std::ptrdiff_t(state_.size());
+  std::ptrdiff_t bad = n;  // first grain with a non-finite state
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
+    reduction(min : bad)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
     state_.position[i] += dt_ * state_.velocity[i];
     state_.orientation[i] += dt_ * state_.angular_velocity[i];
     if (!(state_.position[i].allFinite() && state_.velocity[i].allFinite() && std::isfinite(state_.angular_velocity[i])))
-      throw RuntimeFailure("non-finite state of grain " + std::to_string(i) + " at step " +
-                           std::to_string(steps_ + 1));
-    // Wrapped with the offset at the end of the step: the image the grain moved into.
-    box_.wrap(state_.position[i], state_.velocity[i], rate_);
+      bad = std::min(bad, i);
+    else  // wrapped with the offset at the end of the step: the image the grain moved into
+      box_.wrap(state_.position[i], state_.velocity[i], rate_);
   }
+  if (bad < n)
+    throw RuntimeFailure("non-finite state of grain " + std::to_string(bad) + " at step " + std::to_string(steps_ + 1));
   ++steps_;
 }
 
 const StepReport& Engine::step() {
+  order_bodies();
   build_rows();
   load_bodies();
   solve();
   record_contacts();
   store_bodies();
   advance();
-  detect();
+  detect(true);
   report_.step = steps_;
   report_.max_overlap = overlap_;
   return report_;
+}
+
+
+std::size_t Engine::allocated_bytes() const {
+  const GrainState& s = state_;
+  const ContactRecords& r = records_;
+  std::size_t blocks = bytes(candidate_blocks_);
+  for (const auto& b : candidate_blocks_) blocks += bytes(b);
+  return blocks + bytes(strip_of_) + bytes(row_strip_) + bytes(work_start_) + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
+         bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
+         bytes(scratch_) + bytes(body_of_) + bytes(row_of_) + bytes(bodies_) + bytes(rows_) + bytes(row_age_) +
+         bytes(work_) + bytes(in_work_) + bytes(hot_) + bytes(active_) + bytes(cluster_) + bytes(cluster_start_) +
+         bytes(cluster_rows_) + bytes(degree_) + bytes(peel_) + bytes(unknown_) + bytes(unknown_row_) +
+         bytes(hot_cluster_) +
+         bytes(matrix_start_) + bytes(matrix_row_) + bytes(matrix_value_) + bytes(rhs_) + ldl_.allocated_bytes() +
+         bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
+         bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +
+         bytes(r.pre_normal_velocity) + bytes(r.age);
 }
 
 ContactMemory Engine::memory() const {

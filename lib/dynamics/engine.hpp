@@ -28,6 +28,25 @@
 // penetration per step, which keeps the dynamics invariant under γ̇ → Aγ̇, dt → dt/A.
 // Steps that reach max_iterations are completed anyway, reported and counted.
 //
+// Work per step (none of it changes the converged solution, which the residual test
+// above decides on every candidate):
+//  - candidates come from a pair list with a skin, rebuilt only when the accumulated
+//    worst-case relative displacement could have brought an unlisted pair within the
+//    alert distance; the candidates are exactly those a fresh search would find;
+//  - sweeps visit a working set: contacts active in the warm start or at the free
+//    velocities, and pairs whose normal constraint is within v_rel of binding; the
+//    others join it as soon as a residual check finds them violated;
+//  - grains are numbered internally in a spatial order (recomputed every step, so
+//    that the arithmetic depends on the state only and restarts stay bit-identical);
+//  - sweeps go through horizontal strips at least one contact reach high, even strips
+//    first, then odd ones: no two contacts of different strips of one parity share a
+//    grain, so threads sweep them at once (SolverSettings::threads), and the order of
+//    the updates, hence every bit of the result, is the same for any number of threads;
+//  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
+//    the clusters of active contacts still above the tolerance are solved exactly for
+//    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
+//    replaces the slow linear tail of Gauss–Seidel on large, tree-like clusters.
+//
 // The engine assumes disks with I = mR²/2 (W_tt = 3·W_nn) and a box at least two
 // search cutoffs (2·R_max + alert) wide, so that each pair has a single nearest image.
 #include <array>
@@ -36,8 +55,8 @@
 
 #include "core/vec.hpp"
 #include "dynamics/grains.hpp"
+#include "dynamics/sparse_ldl.hpp"
 #include "geometry/box.hpp"
-#include "neighbours/cell_list.hpp"
 
 namespace granflow {
 
@@ -47,6 +66,15 @@ struct SolverSettings {
   // Smallest alert gap (a length); 0 selects 0.1 × the mean diameter. Each step uses
   // max(this, 2·dt·v_rel,max), a safe bound on the relative displacement in one step.
   double alert_distance = 0;
+  // Extra gap (a length) of the reusable pair list; 0 selects 0.3 × the mean diameter.
+  // Only the cost depends on it: a larger skin means longer lists, rebuilt less often.
+  double skin = 0;
+  // Exact solves of frictionless contact clusters (see above); false: Gauss–Seidel only.
+  // Both reach the same converged solution.
+  bool cluster_solves = true;
+  // OpenMP threads for a step. The work is split so that the arithmetic does not depend on
+  // it: any thread count gives the same trajectory, bit for bit.
+  int threads = 1;
 };
 
 struct StepReport {
@@ -56,7 +84,9 @@ struct StepReport {
   bool converged = true;
   int candidates = 0;          // pairs handed to the solver
   int contacts = 0;            // pairs with P_n > 0
-  std::int64_t contact_updates = 0;  // local contact solves (sweeps × candidates)
+  std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
+  int cluster_solves = 0;      // exact solves of frictionless clusters
+  bool pairs_rebuilt = false;  // the pair list was rebuilt for the next step
   double max_overlap = 0;      // max(0, −g) over all pairs after the position update
 };
 
@@ -113,34 +143,48 @@ class Engine {
   double alert_distance() const { return alert_; }
   std::int64_t unconverged_steps() const { return unconverged_; }
 
+  // Heap bytes held by the engine (grain state, pair list, solver, records).
+  std::size_t allocated_bytes() const;
+
   ContactMemory memory() const;
   // Continues a run from a checkpoint: step counter and the memory of its last step.
   void restore(std::int64_t step, const ContactMemory& memory);
 
  private:
   // Hot data of the Gauss–Seidel loop, one cache line per contact; bodies hold
-  // s = R·ω so that u_t needs no radii (ΔS = −2·P_t/m for I = mR²/2).
+  // s = R·ω so that u_t needs no radii (ΔS = −2·P_t/m for I = mR²/2). Bodies are in
+  // the internal spatial order, so neighbouring contacts touch nearby memory.
   struct alignas(32) Body {
     double vx, vy, spin, inv_mass;
   };
   struct alignas(64) Row {
-    int i, j;
+    int i, j;  // bodies of grains i < j
     double nx, ny;
     double bn, bt;  // bounds on the raw (v_i − v_j)·n̂ and (v_i − v_j)·t̂ − s_i − s_j
     double inv_w;   // 1/W_nn = reduced mass; 1/W_tt = inv_w/3
     double pn, pt;
   };
   struct Candidate {
-    int i, j, image;  // i < j; image = k
+    int i, j, image;  // grains, i < j; image = k
     double dx, dy;    // r_i − r_j (minimum image)
   };
 
-  void detect();
+  void detect(bool moved);
+  double select_candidates(std::size_t first, std::size_t last, std::vector<Candidate>& out) const;
+  void rebuild_pairs();
+  void order_bodies();
   void build_rows();
+  void build_row(std::size_t c, std::size_t& p);
   void load_bodies();
+  void select_working_set();
+  void group_working_set();
   void solve();
-  double sweep(bool forward);
-  double residual() const;
+  template <bool Friction>
+  double sweep(bool forward, double upsilon);
+  double check(bool everywhere);
+  bool solve_clusters();
+  void assemble_clusters();
+  void order_loops(int first);
   void record_contacts();
   void store_bodies();
   void advance();
@@ -151,15 +195,43 @@ class Engine {
   Material material_;
   SolverSettings settings_;
   Vec2 gravity_;
-  double alert_min_ = 0, alert_ = 0, max_radius_ = 0;
+  double alert_min_ = 0, alert_ = 0, max_radius_ = 0, vrel_ = 0;
   std::int64_t steps_ = 0, unconverged_ = 0;
 
-  CellList cells_;
-  std::vector<Candidate> found_, candidates_;
-  std::vector<int> bucket_;
+  // Pair list: grains i < j, sorted, whose gap was below reach_ when it was built;
+  // drift_ bounds how much any gap may have shrunk since.
+  double skin_ = 0, reach_ = 0, drift_ = 0;
+  std::vector<std::array<int, 2>> pairs_;
+  std::vector<Candidate> candidates_;  // sorted by (i, j)
+  std::vector<std::vector<Candidate>> candidate_blocks_;  // per block of pairs, with threads
+  std::vector<int> bucket_, scratch_;
+
+  std::vector<int> body_of_;   // grain → body (internal spatial order)
+  std::vector<int> strip_of_;  // body → strip of the sweep schedule
+  int strips_ = 1;
+  std::vector<int> row_of_;    // candidate → row (sweep order)
+  std::vector<int> row_strip_;  // row → strip (that of its lower body; across the periodic boundary the top one)
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
-  std::vector<int> row_age_;  // age of the matched contact of the previous step, else 0
+  std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
+
+  // Gauss–Seidel state: the working set (rows grouped by strip, ascending within a strip;
+  // strip s holds work_[work_start_[s]] … work_[work_start_[s + 1] − 1]), its membership,
+  // and per row whether the last sweep still corrected it by Υ or more.
+  std::vector<int> work_, work_start_;
+  std::vector<std::uint8_t> in_work_, hot_;
+  int status_changes_ = 0, active_rows_ = 0;
+
+  // Cluster solves: union–find over bodies, the rows to solve listed per body, unknown
+  // numbering (row → unknown, −1 if none; unknown → row), the matrix (upper triangle by
+  // columns) and its factor.
+  std::vector<int> active_, cluster_, cluster_start_, cluster_rows_, degree_, peel_, unknown_, unknown_row_;
+  bool reorder_loops_ = false;  // in this step, loops in sweep order filled in too much
+  std::vector<std::uint8_t> hot_cluster_;
+  std::vector<int> matrix_start_, matrix_row_;
+  std::vector<double> matrix_value_, rhs_;
+  SparseLdl ldl_;
+
   // Memory of the previous step, sorted by key = (i << 32) | j.
   std::vector<std::uint64_t> prev_key_;
   std::vector<double> prev_fn_, prev_ft_;  // forces, as recorded

@@ -1,6 +1,7 @@
 #include "incline/observer.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "core/error.hpp"
 #include "incline/start.hpp"
@@ -12,9 +13,7 @@ namespace {
 // Observables summed per block, in InclineObservables order.
 constexpr const char* kBlockObservables[] = {"flow_rate", "kinetic_energy", "height"};
 
-double& observable(InclineObservables& o, int k) {
-  return k == 0 ? o.flow_rate : k == 1 ? o.kinetic_energy : o.height;
-}
+double& observable(InclineObservables& o, int k) { return k == 0 ? o.flow_rate : k == 1 ? o.kinetic_energy : o.height; }
 
 io::Parameters described(const std::string& meaning, const std::string& units) {
   io::Parameters p;
@@ -46,30 +45,38 @@ void write_blocks(io::TrajectoryWriter& writer, const std::string& group, const 
   for (int c = 0; c < kProfileColumns; ++c) {
     std::vector<double> values;
     values.reserve(n * bins);
-    for (const ProfileBlock& b : blocks)
-      values.insert(values.end(), b.sums.begin() + std::ptrdiff_t(c * bins), b.sums.begin() + std::ptrdiff_t((c + 1) * bins));
+    for (const ProfileBlock& b : blocks) {
+      const auto first = b.sums.begin() + std::ptrdiff_t(c * bins);
+      values.insert(values.end(), first, first + std::ptrdiff_t(bins));
+    }
     const ProfileColumnInfo& info = profile_column(c);
-    writer.write_array(group + "/" + info.name, {n, bins}, values,
-                       described(std::string(info.meaning) + "; summed over the block's samples (divide by samples)",
-                                 info.units));
+    writer.write_array(
+        group + "/" + info.name, {n, bins}, values,
+        described(std::string(info.meaning) + "; summed over the block's samples (divide by samples)", info.units));
   }
-  auto column = [&](const char* name, auto get, const std::string& meaning, const std::string& units) {
-    std::vector<double> values;
-    for (const ProfileBlock& b : blocks) values.push_back(double(get(b)));
+  std::vector<double> index, samples, begin, end, summed[3];
+  for (const ProfileBlock& b : blocks) {
+    index.push_back(double(b.index));
+    samples.push_back(double(b.samples));
+    begin.push_back(b.time_begin);
+    end.push_back(b.time_end);
+    summed[0].push_back(b.observables.flow_rate);
+    summed[1].push_back(b.observables.kinetic_energy);
+    summed[2].push_back(b.observables.height);
+  }
+  auto column = [&](const char* name, const std::vector<double>& values, const std::string& meaning,
+                    const std::string& units) {
     writer.write_array(group + "/" + name, {n}, values, described(meaning, units));
   };
-  column("index", [](const ProfileBlock& b) { return b.index; },
-         "block number k: the steps in (k·block_steps, (k+1)·block_steps]", "1");
-  column("samples", [](const ProfileBlock& b) { return b.samples; }, "steps summed in the block", "1");
-  column("time_begin", [](const ProfileBlock& b) { return b.time_begin; }, "time of the block's first sample",
-         "time");
-  column("time_end", [](const ProfileBlock& b) { return b.time_end; }, "time of the block's last sample", "time");
-  column("flow_rate", [](const ProfileBlock& b) { return b.observables.flow_rate; },
-         "mass-weighted mean v_x of the mobile grains, summed over the block's samples", "velocity");
-  column("kinetic_energy", [](const ProfileBlock& b) { return b.observables.kinetic_energy; },
-         "Σ ½mv² + ½Iω² of the mobile grains, summed over the block's samples", "mass·velocity²");
-  column("height", [](const ProfileBlock& b) { return b.observables.height; },
-         "centre-of-mass height of the mobile grains, summed over the block's samples", "length");
+  column("index", index, "block number k: the steps in (k·block_steps, (k+1)·block_steps]", "1");
+  column("samples", samples, "steps summed in the block", "1");
+  column("time_begin", begin, "time of the block's first sample", "time");
+  column("time_end", end, "time of the block's last sample", "time");
+  column("flow_rate", summed[0], "mass-weighted mean v_x of the mobile grains, summed over the block's samples",
+         "velocity");
+  column("kinetic_energy", summed[1], "Σ ½mv² + ½Iω² of the mobile grains, summed over the block's samples",
+         "mass·velocity²");
+  column("height", summed[2], "centre-of-mass height of the mobile grains, summed over the block's samples", "length");
 }
 
 std::vector<ProfileBlock> read_blocks(const io::TrajectoryReader& reader, const std::string& group,
@@ -116,14 +123,11 @@ ProfileAnalysis analyse_profiles(const ProfileAccumulator& profiles, const Incli
                                  std::optional<double> from_time) {
   const auto& blocks = profiles.blocks();
   ProfileAnalysis a;
-  std::int64_t full_samples = 0;
-  for (const ProfileBlock& b : blocks) full_samples = std::max(full_samples, b.samples);
-  a.full_blocks = blocks.size();
-  if (!blocks.empty() && blocks.back().samples < full_samples) --a.full_blocks;
   std::vector<std::vector<double>> series(2);
-  for (std::size_t b = 0; b < a.full_blocks; ++b) {
-    series[0].push_back(blocks[b].observables.flow_rate / double(blocks[b].samples));
-    series[1].push_back(blocks[b].observables.kinetic_energy / double(blocks[b].samples));
+  for (const ProfileBlock& b : blocks) {
+    if (b.samples < profiles.block_steps()) continue;  // the last one, if the run ends inside it
+    series[0].push_back(b.observables.flow_rate / double(b.samples));
+    series[1].push_back(b.observables.kinetic_energy / double(b.samples));
   }
   if (from_time) {
     a.chosen = true;
@@ -133,13 +137,14 @@ ProfileAnalysis analyse_profiles(const ProfileAccumulator& profiles, const Incli
   } else {
     a.steady = detect_steady(series);
   }
-  a.profiles = average_profiles(profiles.grid(), blocks, a.steady.first, units.gravity, units.mean_radius,
-                                units.mean_mass);
+  a.from_step = blocks[a.steady.first].index * profiles.block_steps();
+  a.profiles =
+      average_profiles(profiles.grid(), blocks, a.steady.first, units.gravity, units.mean_radius, units.mean_mass);
   return a;
 }
 
-void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& profiles,
-                    const ProfileAnalysis& analysis, const InclineUnits& units) {
+void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& profiles, const ProfileAnalysis& analysis,
+                    const InclineUnits& units) {
   const Profiles& p = analysis.profiles;
   const std::size_t layers = p.y.size();
   const std::string stress = "force/length (2D stress)";
@@ -150,10 +155,10 @@ void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& prof
   write("y", p.y, "height of the layer's centre above the base centre line y = 0", "length");
   write("packing_fraction", p.packing_fraction, "area of the disks inside the layer / layer area", "1");
   write("velocity_x", p.velocity_x, "V_x = Σmv_x/Σm of the mobile grains with centre in the layer", "velocity");
-  write("shear_rate", p.shear_rate, "dV_x/dy by central differences (one-sided at the ends; over empty layers to the nearest ones with grains)", "1/time");
+  write("shear_rate", p.shear_rate,
+        "dV_x/dy by central differences between the nearest layers holding grains (one-sided at the ends)", "1/time");
   write("temperature", p.temperature,
-        "T of eq. 4.5 per layer, about the layer's mean velocity and its mean shear inside the layer",
-        "velocity²");
+        "T of eq. 4.5 per layer, about the layer's mean velocity and its mean shear inside the layer", "velocity²");
   write("stress_xx", p.stress_xx, "Σxx, kinetic + contact (eq. 2.7, layer coarse graining)", stress);
   write("stress_yy", p.stress_yy, "Σyy, kinetic + contact", stress);
   write("stress_xy", p.stress_xy, "Σxy: flux of x-momentum through horizontal lines, kinetic + contact", stress);
@@ -168,19 +173,17 @@ void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& prof
   write("mT_over_pR2", p.mT_over_pR2, "m T/(p⟨R⟩²), m and ⟨R⟩ the mobile grains' mean mass and radius", "1");
 
   const auto& blocks = profiles.blocks();
-  const std::size_t first = analysis.steady.first;
   auto block_start = [&](std::size_t b) { return double(blocks[b].index * profiles.block_steps()) * units.dt; };
   io::Parameters a;
   a.set("steady", analysis.steady.steady ? 1 : 0);
   a.set("steady_from_given", analysis.chosen ? 1 : 0);
-  const double start = first < blocks.size() ? block_start(first) : 0.0;
-  a.set("steady_from_step", first < blocks.size() ? blocks[first].index * profiles.block_steps() : 0);
-  a.set("steady_from_time", start);
-  a.set("steady_from_tau", start / units.tau);
+  a.set("steady_from_step", analysis.from_step);
+  a.set("steady_from_time", double(analysis.from_step) * units.dt);
+  a.set("steady_from_tau", double(analysis.from_step) * units.dt / units.tau);
   for (std::size_t k = 0; k < analysis.steady.truncation.size(); ++k)
     a.set(std::string("mser_") + kBlockObservables[k] + "_time", block_start(analysis.steady.truncation[k]));
   a.set("blocks", std::int64_t(blocks.size()));
-  a.set("blocks_averaged", std::int64_t(blocks.size() - std::min(first, blocks.size())));
+  a.set("blocks_averaged", std::int64_t(blocks.size() - analysis.steady.first));
   a.set("samples", p.samples);
   a.set("block_steps", profiles.block_steps());
   a.set("bin", profiles.grid().bin);
@@ -195,6 +198,21 @@ void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& prof
         "full blocks agree within 3 standard errors; profiles are averages over the blocks from there");
   writer.write_attributes("/profiles", a);
   write_blocks(writer, "/profiles/blocks", profiles);
+}
+
+void report_steady(const char* program, const ProfileAccumulator& profiles, const ProfileAnalysis& analysis,
+                   const InclineUnits& units, bool quiet) {
+  const double from = double(analysis.from_step) * units.dt / units.tau;
+  const std::size_t averaged = profiles.blocks().size() - analysis.steady.first;
+  if (!analysis.steady.steady)
+    std::fprintf(stderr,
+                 "%s: warning: no steady state: flow_rate or kinetic_energy still drifts after t = %.4g τ "
+                 "(/profiles has steady = 0 and averages the %zu blocks from there)\n",
+                 program, from, averaged);
+  else if (!quiet)
+    std::fprintf(stderr, "%s: steady from t = %.4g τ (%s); /profiles averages %zu blocks (%.4g τ)\n", program, from,
+                 analysis.chosen ? "--from-time" : "MSER", averaged,
+                 double(analysis.profiles.samples) * units.dt / units.tau);
 }
 
 }  // namespace granflow

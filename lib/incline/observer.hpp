@@ -6,7 +6,7 @@
 // Profiles sample every step, not every observed one: contact stresses are sums of
 // impulses, each collision acts during one step only, and a sample costs less than one
 // solver sweep; sampling every 10th step left a 4 % noise on the stress of the layer
-// next to the base (where collisions with the base dominate) after 10⁵ steps.
+// next to the base (where collisions with the base dominate) after 5·10⁴ steps.
 //
 // Output layout:
 //   /observables/{flow_rate, kinetic_energy, height}   H5MD elements (see InclineObservables)
@@ -48,9 +48,9 @@ struct InclineUnits {
 };
 
 struct ProfileAnalysis {
-  SteadyState steady;       // first: first block averaged
-  bool chosen = false;      // the start was given (--from-time), not detected
-  std::size_t full_blocks = 0;
+  SteadyState steady;          // first: first block averaged
+  bool chosen = false;         // the start was given (--from-time), not detected
+  std::int64_t from_step = 0;  // where the averaged blocks start
   Profiles profiles;
 };
 
@@ -61,7 +61,12 @@ ProfileAnalysis analyse_profiles(const ProfileAccumulator& profiles, const Incli
                                  std::optional<double> from_time);
 
 // /profiles and /profiles/blocks (layout above).
-void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& profiles,
-                    const ProfileAnalysis& analysis, const InclineUnits& units);
+void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& profiles, const ProfileAnalysis& analysis,
+                    const InclineUnits& units);
+
+// One line on stderr: where the steady part starts and how much of it was averaged, or,
+// always (quiet or not), a warning that the run did not reach a steady state.
+void report_steady(const char* program, const ProfileAccumulator& profiles, const ProfileAnalysis& analysis,
+                   const InclineUnits& units, bool quiet);
 
 }  // namespace granflow

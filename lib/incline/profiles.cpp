@@ -18,8 +18,7 @@ constexpr ProfileColumnInfo kColumns[kProfileColumns] = {
     {"mass", "their mass Σm", "mass"},
     {"momentum_x", "Σ m v_x", "mass·velocity"},
     {"momentum_y", "Σ m v_y", "mass·velocity"},
-    {"fluctuation_xx", "Σ (v_x − v̄_x)², v̄ the plain mean velocity of the layer's grains in the sample",
-     "velocity²"},
+    {"fluctuation_xx", "Σ (v_x − v̄_x)², v̄ the plain mean velocity of the layer's grains in the sample", "velocity²"},
     {"fluctuation_yy", "Σ (v_y − v̄_y)²", "velocity²"},
     {"fluctuation_xh", "Σ (v_x − v̄_x)(y − ȳ), ȳ their plain mean height", "velocity·length"},
     {"fluctuation_hh", "Σ (y − ȳ)²", "length²"},
@@ -31,17 +30,15 @@ constexpr ProfileColumnInfo kColumns[kProfileColumns] = {
     {"kinetic_xh", "Σ m (v_x − V_x)(y − Y), Y their mass-weighted mean height", "mass·velocity·length"},
     {"kinetic_yh", "Σ m (v_y − V_y)(y − Y)", "mass·velocity·length"},
     {"kinetic_hh", "Σ m (y − Y)²", "mass·length²"},
-    {"contact_xx", "Σ over contacts of F_x b_x × the fraction of the branch segment r_j→r_i inside the layer "
-                   "(b = r_i − r_j, F the force on i)", "force·length"},
-    {"contact_xy", "Σ over contacts of F_x b_y × the fraction of the branch segment inside the layer",
+    {"contact_xx",
+     "Σ over contacts of F_x b_x × the fraction of the branch segment r_j→r_i inside the layer "
+     "(b = r_i − r_j, F the force on i)",
      "force·length"},
-    {"contact_yx", "Σ over contacts of F_y b_x × the fraction of the branch segment inside the layer",
-     "force·length"},
-    {"contact_yy", "Σ over contacts of F_y b_y × the fraction of the branch segment inside the layer",
-     "force·length"},
+    {"contact_xy", "Σ over contacts of F_x b_y × the fraction of the branch segment inside the layer", "force·length"},
+    {"contact_yx", "Σ over contacts of F_y b_x × the fraction of the branch segment inside the layer", "force·length"},
+    {"contact_yy", "Σ over contacts of F_y b_y × the fraction of the branch segment inside the layer", "force·length"},
     {"area", "area of all disks (base grains included) inside the layer", "length²"},
-    {"mass_above", "average over heights y in the layer of the mass of the mobile grains with centre above y",
-     "mass"},
+    {"mass_above", "average over heights y in the layer of the mass of the mobile grains with centre above y", "mass"},
 };
 
 }  // namespace
@@ -208,8 +205,8 @@ void ProfileAccumulator::add(std::int64_t step, double time, const GrainState& s
   }
 }
 
-Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBlock>& blocks, std::size_t first,
-                          double g, double mean_radius, double mean_mass) {
+Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBlock>& blocks, std::size_t first, double g,
+                          double mean_radius, double mean_mass) {
   const int bins = grid.bins;
   std::vector<double> total(std::size_t(kProfileColumns) * std::size_t(bins), 0.0);
   Profiles p;
@@ -226,9 +223,9 @@ Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBloc
   const double samples = double(p.samples);
   const double area = grid.layer_area() * samples;  // layer area × samples: turns sums into densities
   auto resize = [&](std::vector<double>& v) { v.assign(std::size_t(used), nan); };
-  for (auto* v : {&p.y, &p.packing_fraction, &p.velocity_x, &p.shear_rate, &p.temperature, &p.stress_xx,
-                  &p.stress_xy, &p.stress_yy, &p.pressure, &p.shear_stress, &p.weight_above, &p.s_over_p,
-                  &p.inertial, &p.mT_over_pR2})
+  for (auto* v :
+       {&p.y, &p.packing_fraction, &p.velocity_x, &p.shear_rate, &p.temperature, &p.stress_xx, &p.stress_xy,
+        &p.stress_yy, &p.pressure, &p.shear_stress, &p.weight_above, &p.s_over_p, &p.inertial, &p.mT_over_pR2})
     resize(*v);
   for (int k = 0; k < used; ++k) {
     p.y[k] = (k + 0.5) * grid.bin;
@@ -249,10 +246,10 @@ Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBloc
     // Layers without grain centres carry contact stress only (and no shear to remove).
     const bool grains = at(kGrains, k) > 0;
     if (grains)
-      p.temperature[k] = (at(kFluctuationXX, k) - 2 * shear * at(kFluctuationXH, k) +
-                          shear * shear * at(kFluctuationHH, k) + at(kFluctuationYY, k) +
-                          0.5 * at(kFluctuationSpin, k)) /
-                         at(kGrains, k);
+      p.temperature[k] =
+          (at(kFluctuationXX, k) - 2 * shear * at(kFluctuationXH, k) + shear * shear * at(kFluctuationHH, k) +
+           at(kFluctuationYY, k) + 0.5 * at(kFluctuationSpin, k)) /
+          at(kGrains, k);
     const double kxx =
         grains ? at(kKineticXX, k) - 2 * shear * at(kKineticXH, k) + shear * shear * at(kKineticHH, k) : 0.0;
     const double kxy = grains ? at(kKineticXY, k) - shear * at(kKineticYH, k) : 0.0;

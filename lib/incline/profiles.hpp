@@ -46,7 +46,7 @@ double disk_strip_area(double yc, double r, double a, double b);
 
 // Layers [kΔy, (k+1)Δy), k < bins, in a box of width lx.
 struct ProfileGrid {
-  double bin = 0;   // Δy
+  double bin = 0;  // Δy
   int bins = 0;
   double lx = 0;
 
@@ -58,27 +58,27 @@ ProfileGrid profile_grid(const Box& box, double bin);
 
 // The per-layer sums a sample adds to its block; per grain in the layer unless said.
 enum ProfileColumn : int {
-  kGrains,            // mobile grains
-  kMass,              // Σ m
-  kMomentumX,         // Σ m v_x
-  kMomentumY,         // Σ m v_y
-  kFluctuationXX,     // Σ (v_x − v̄_x)², v̄ the layer's plain mean velocity in the sample
-  kFluctuationYY,     // Σ (v_y − v̄_y)²
-  kFluctuationXH,     // Σ (v_x − v̄_x)(y − ȳ), ȳ the layer's plain mean height
-  kFluctuationHH,     // Σ (y − ȳ)²
-  kFluctuationSpin,   // Σ R²(ω − ω̄)²
-  kKineticXX,         // Σ m (v_x − V_x)², V the layer's mass-weighted mean velocity
-  kKineticXY,         // Σ m (v_x − V_x)(v_y − V_y)
-  kKineticYY,         // Σ m (v_y − V_y)²
-  kKineticXH,         // Σ m (v_x − V_x)(y − Y), Y the mass-weighted mean height
-  kKineticYH,         // Σ m (v_y − V_y)(y − Y)
-  kKineticHH,         // Σ m (y − Y)²
-  kContactXX,         // Σ_contacts F_x b_x · fraction of the branch segment in the layer
-  kContactXY,         // Σ F_x b_y · fraction
-  kContactYX,         // Σ F_y b_x · fraction
-  kContactYY,         // Σ F_y b_y · fraction
-  kArea,              // area of all disks (fixed ones included) inside the layer
-  kMassAbove,         // layer average over y of Σ_{mobile i: y_i > y} m_i
+  kGrains,           // mobile grains
+  kMass,             // Σ m
+  kMomentumX,        // Σ m v_x
+  kMomentumY,        // Σ m v_y
+  kFluctuationXX,    // Σ (v_x − v̄_x)², v̄ the layer's plain mean velocity in the sample
+  kFluctuationYY,    // Σ (v_y − v̄_y)²
+  kFluctuationXH,    // Σ (v_x − v̄_x)(y − ȳ), ȳ the layer's plain mean height
+  kFluctuationHH,    // Σ (y − ȳ)²
+  kFluctuationSpin,  // Σ R²(ω − ω̄)²
+  kKineticXX,        // Σ m (v_x − V_x)², V the layer's mass-weighted mean velocity
+  kKineticXY,        // Σ m (v_x − V_x)(v_y − V_y)
+  kKineticYY,        // Σ m (v_y − V_y)²
+  kKineticXH,        // Σ m (v_x − V_x)(y − Y), Y the mass-weighted mean height
+  kKineticYH,        // Σ m (v_y − V_y)(y − Y)
+  kKineticHH,        // Σ m (y − Y)²
+  kContactXX,        // Σ_contacts F_x b_x · fraction of the branch segment in the layer
+  kContactXY,        // Σ F_x b_y · fraction
+  kContactYX,        // Σ F_y b_x · fraction
+  kContactYY,        // Σ F_y b_y · fraction
+  kArea,             // area of all disks (fixed ones included) inside the layer
+  kMassAbove,        // layer average over y of Σ_{mobile i: y_i > y} m_i
   kProfileColumns
 };
 
@@ -135,25 +135,26 @@ class ProfileAccumulator {
 // Time-averaged profiles over a set of blocks, bins up to the highest that ever held a
 // mobile grain. Undefined values (no grain in a layer) are NaN.
 struct Profiles {
-  std::vector<double> y;                 // layer centres
+  std::vector<double> y;  // layer centres
   std::vector<double> packing_fraction;
-  std::vector<double> velocity_x;        // Σmv_x / Σm over all samples
-  std::vector<double> shear_rate;        // dV_x/dy, central differences over the nearest layers
-                                         // holding grains (one-sided at the ends)
-  std::vector<double> temperature;       // eq. 4.5, about V and the mean shear inside the layer
+  std::vector<double> velocity_x;  // Σmv_x / Σm over all samples
+  // dV_x/dy, central differences between the nearest layers holding grains (one-sided
+  // at the ends).
+  std::vector<double> shear_rate;
+  std::vector<double> temperature;                      // eq. 4.5, about V and the mean shear inside the layer
   std::vector<double> stress_xx, stress_xy, stress_yy;  // kinetic + contact
-  std::vector<double> pressure;          // (Σxx + Σyy)/2
-  std::vector<double> shear_stress;      // −Σxy
-  std::vector<double> weight_above;      // g · W (see above)
+  std::vector<double> pressure;                         // (Σxx + Σyy)/2
+  std::vector<double> shear_stress;                     // −Σxy
+  std::vector<double> weight_above;                     // g · W (see above)
   // Bagnold invariants (§4.3.2), ratios of the time averages:
-  std::vector<double> s_over_p;          // s/p
-  std::vector<double> inertial;          // γ̇⟨R⟩/√T
-  std::vector<double> mT_over_pR2;       // m T / (p ⟨R⟩²)
+  std::vector<double> s_over_p;     // s/p
+  std::vector<double> inertial;     // γ̇⟨R⟩/√T
+  std::vector<double> mT_over_pR2;  // m T / (p ⟨R⟩²)
   std::int64_t samples = 0;
 };
 
 // g: magnitude of gravity; mean_radius, mean_mass: ⟨R⟩ and m of the mobile grains.
-Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBlock>& blocks, std::size_t first,
-                          double g, double mean_radius, double mean_mass);
+Profiles average_profiles(const ProfileGrid& grid, const std::vector<ProfileBlock>& blocks, std::size_t first, double g,
+                          double mean_radius, double mean_mass);
 
 }  // namespace granflow

@@ -21,9 +21,9 @@ struct InclineStart {
   // Contacts of a stored frame (empty for a packing): the warm start of the first step
   // and the contacts of the run's first frame.
   io::ContactRecords contacts;
-  std::size_t base_grains = 0;   // fixed grains
-  double mean_radius = 0;        // ⟨R⟩ of the mobile grains
-  double mean_mass = 0;          // their mean mass
+  std::size_t base_grains = 0;  // fixed grains
+  double mean_radius = 0;       // ⟨R⟩ of the mobile grains
+  double mean_mass = 0;         // their mean mass
 };
 
 // g(sin θ, −cos θ) for θ in degrees.

@@ -20,9 +20,9 @@ std::size_t mser_truncation(std::span<const double> x);
 bool halves_agree(std::span<const double> x, double sigmas = 3);
 
 struct SteadyState {
-  std::size_t first = 0;              // first block of the steady part
+  std::size_t first = 0;                // first block of the steady part
   std::vector<std::size_t> truncation;  // MSER's d per series
-  bool steady = false;                // every series stationary from `first` on
+  bool steady = false;                  // every series stationary from `first` on
 };
 
 // MSER on each series (equal lengths); the latest truncation wins. steady: every series

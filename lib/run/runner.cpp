@@ -14,8 +14,7 @@ void add_contact_options(CommandLine& cli) {
   cli.option("tangential-restitution", 0, "ET", "tangential restitution e_t in [-1, 1] (eq. 4.1)", "0");
   cli.option("friction", 0, "MU", "Coulomb friction coefficient μ ≥ 0", "0");
   cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
-  cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged",
-             "10000");
+  cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
   cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.1 mean diameter", "0");
 }
 
@@ -87,8 +86,8 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
   }
   Checkpoint checkpoint = read_checkpoint(plan.checkpoint_path);
   if (checkpoint.signature != plan.signature)
-    throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" +
-                     checkpoint.signature + "); run without --resume to start over");
+    throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" + checkpoint.signature +
+                     "); run without --resume to start over");
   if (!std::filesystem::exists(out.temp_path()))
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' has no partial trajectory '" + out.temp_path() +
                      "' beside it; run without --resume to start over");

@@ -57,7 +57,10 @@ TEST(Shear, OverlapBelowTenTolerances) {
       contacts += r.contacts;
     }
     std::cout << "Overlap: " << contacts / 1000.0 << " contacts per step, max overlap " << worst << "\n";
-    EXPECT_GT(contacts, 50 * 1000);
+    // Enough contacts to test anything. The count is chaotic: over seeds 43–52 of this set-up
+    // it ranges over 45–75 per step, and any change in the order of the solver's updates
+    // lands elsewhere in that range.
+    EXPECT_GT(contacts, 40 * 1000);
     EXPECT_LT(worst, 10 * engine.settings().tolerance);
     EXPECT_GE(test::min_gap(engine.state(), engine.box()), -10 * engine.settings().tolerance);
   }

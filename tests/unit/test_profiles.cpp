@@ -83,7 +83,7 @@ ContactRecords resting_forces(const GrainState& s, double g) {
     for (std::size_t i = k + 1; i < s.size(); ++i) above += s.mass[i];
     c.pair.push_back({int(k), int(k + 1)});
     c.branch.push_back(s.position[k] - s.position[k + 1]);  // r_i − r_j points down
-    c.normal_force.push_back(g * above);                       // on the lower grain i, along n̂ (down)
+    c.normal_force.push_back(g * above);                    // on the lower grain i, along n̂ (down)
     c.tangential_force.push_back(0);
     c.binary_force.push_back(0);
     c.pre_normal_velocity.push_back({0, 0});
@@ -161,8 +161,7 @@ TEST(Profiles, MeanShearInsideALayerIsNotHeat) {
   for (int row = 0; row < 12; ++row)
     for (int k = 0; k < 8; ++k) position.emplace_back(0.5 + k, 0.25 + 0.5 * row);
   GrainState s = make_grains(position, std::vector<double>(position.size(), r));
-  for (std::size_t i = 0; i < s.size(); ++i)
-    s.velocity[i] = Vec2(rate * s.position[i].y(), (i % 2 ? u : -u));
+  for (std::size_t i = 0; i < s.size(); ++i) s.velocity[i] = Vec2(rate * s.position[i].y(), (i % 2 ? u : -u));
   const ProfileGrid grid = profile_grid(Box{8.0, 6.0, false, 0.0}, bin);
   ProfileAccumulator acc(grid, 1);
   acc.add(1, 0.0, s, {}, incline_observables(s));
