@@ -2,13 +2,15 @@
 // start in biperiodic packings, per step, per contact update and per unit strain.
 //
 //   build-*/bench/bench_engine                                       everything (~1 h)
-//   build-*/bench/bench_engine --benchmark_filter='Shear/1000/'      quick: N = 1000 only
+//   build-*/bench/bench_engine --benchmark_filter='Shear/1000/'      quick: N = 1000 only (~1 min)
 //   build-*/bench/bench_engine --benchmark_filter='Shear/2000/'      time to solution, N = 2000
 //   build-*/bench/bench_engine --benchmark_filter=Tolerance          p, s, T at tolerance 1e-6 vs 1e-10
+//   build-*/bench/bench_engine --benchmark_filter=Threads            1 vs 2 threads at N = 10⁵
 //
-// Arguments of BM_Shear: N, ν·1000, μ·100, γ̇dt·10⁴, warm-up steps (not timed), timed steps.
-// Every case runs once (a run is deterministic; repetitions would only measure the noise of
-// the machine); times are the CPU time of the process. Counters:
+// Arguments of BM_Shear and BM_Threads: N, ν·1000, μ·100, γ̇dt·10⁴, warm-up steps (not
+// timed), timed steps, threads. Every case runs once (a run is deterministic; repetitions
+// would only measure the noise of the machine). BM_Shear's counters use the CPU time of the
+// process, which other work on the machine inflates least; BM_Threads' the wall time:
 //   s/strain         time per unit strain            steps/s      steps per second
 //   updates/s        local contact solves per second (one visit of one contact, in a sweep
 //                    or a residual check)
@@ -18,7 +20,9 @@
 //   unconverged      steps that reached max_iterations
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <map>
 #include <utility>
 
@@ -43,24 +47,40 @@ const Packing& packing(std::int64_t grains, double nu) {
   return it->second;
 }
 
-Engine sheared(std::int64_t grains, double nu, double mu, double strain_step, double tolerance) {
+Engine sheared(std::int64_t grains, double nu, double mu, double strain_step, double tolerance, int threads = 1) {
   const Packing& p = packing(grains, nu);
   GrainState state = make_grains(p.position, p.radius);
   const double rate = 1.0;
   add_affine_flow(state, p.box, rate);
   SolverSettings settings;
   settings.tolerance = tolerance;
+  settings.threads = threads;
   return Engine(std::move(state), p.box, rate, Material{0.5, 0.0, mu}, settings, strain_step / rate);
 }
 
-void BM_Shear(benchmark::State& state) {
+// CPU time of the process and wall time, in seconds.
+double cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+double wall_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// wall: time with the wall clock, else with the CPU time of the process.
+void run_shear(benchmark::State& state, bool wall) {
   const std::int64_t grains = state.range(0);
   const double nu = state.range(1) / 1000.0, mu = state.range(2) / 100.0, strain_step = state.range(3) * 1e-4;
   const std::int64_t warm = state.range(4), steps = state.range(5);
-  Engine engine = sheared(grains, nu, mu, strain_step, 1e-10);
+  const int threads = int(state.range(6));
+  Engine engine = sheared(grains, nu, mu, strain_step, 1e-10, threads);
   for (std::int64_t k = 0; k < warm; ++k) engine.step();
   double sweeps = 0, clusters = 0, candidates = 0, contacts = 0, updates = 0, rebuilds = 0, unconverged = 0;
+  double seconds = 0;
   for (auto _ : state) {
+    const double start_cpu = cpu_seconds(), start_wall = wall_seconds();
     for (std::int64_t k = 0; k < steps; ++k) {
       const StepReport& r = engine.step();
       sweeps += r.iterations;
@@ -71,13 +91,13 @@ void BM_Shear(benchmark::State& state) {
       rebuilds += r.pairs_rebuilt;
       unconverged += !r.converged;
     }
+    seconds = wall ? wall_seconds() - start_wall : cpu_seconds() - start_cpu;
   }
   const double n = double(steps);
-  using benchmark::Counter;
-  state.counters["s/strain"] = Counter(n * strain_step, Counter::kIsRate | Counter::kInvert);
-  state.counters["steps/s"] = Counter(n, Counter::kIsRate);
-  state.counters["updates/s"] = Counter(updates, Counter::kIsRate);
-  state.counters["ns/grain"] = Counter(1e-9 * n * double(grains), Counter::kIsRate | Counter::kInvert);
+  state.counters["s/strain"] = seconds / (n * strain_step);
+  state.counters["steps/s"] = n / seconds;
+  state.counters["updates/s"] = updates / seconds;
+  state.counters["ns/grain"] = 1e9 * seconds / (n * double(grains));
   state.counters["sweeps"] = sweeps / n;
   state.counters["clusters"] = clusters / n;
   state.counters["candidates"] = candidates / n;
@@ -87,6 +107,10 @@ void BM_Shear(benchmark::State& state) {
   state.counters["unconverged"] = unconverged;
 }
 
+void BM_Shear(benchmark::State& state) { run_shear(state, false); }
+
+void BM_Threads(benchmark::State& state) { run_shear(state, true); }
+
 // Steady averages of p, s, T (in units of γ̇² with γ̇ = 1) at N = 1000, ν = 0.8, μ = 0 over
 // 2 strain units after 0.5 of transient, at the tolerance given in units of 10⁻¹².
 void BM_Tolerance(benchmark::State& state) {
@@ -94,8 +118,9 @@ void BM_Tolerance(benchmark::State& state) {
   Engine engine = sheared(1000, 0.8, 0.0, strain_step, tolerance);
   for (int k = 0; k < 500; ++k) engine.step();
   const int steps = 2000;
-  double p = 0, s = 0, t = 0, sweeps = 0;
+  double p = 0, s = 0, t = 0, sweeps = 0, seconds = 0;
   for (auto _ : state) {
+    const double cpu = cpu_seconds();
     for (int k = 0; k < steps; ++k) {
       sweeps += engine.step().iterations;
       const Mat2 sigma = stress(engine.state(), engine.box(), engine.rate(), engine.contacts()).total();
@@ -103,38 +128,48 @@ void BM_Tolerance(benchmark::State& state) {
       s += shear_stress(sigma);
       t += granular_temperature(engine.state(), engine.box(), engine.rate());
     }
+    seconds = cpu_seconds() - cpu;
   }
-  using benchmark::Counter;
   state.counters["p"] = p / steps;
   state.counters["s"] = s / steps;
   state.counters["T"] = t / steps;
   state.counters["sweeps"] = sweeps / steps;
-  state.counters["s/strain"] = Counter(steps * strain_step, Counter::kIsRate | Counter::kInvert);
+  state.counters["s/strain"] = seconds / (steps * strain_step);
 }
 
 }  // namespace
 
-// Scaling with N at ν = 0.8, γ̇dt = 10⁻³: steady state after 0.5 strain at N = 10³, 10⁴ (μ = 0);
-// from the affine start (transient included) at every N, for a like-for-like comparison.
+// Scaling with N at ν = 0.8, γ̇dt = 10⁻³: in steady state, after 0.5 strain, and from the
+// affine start (transient included), for a like-for-like comparison at N = 10⁵.
 BENCHMARK(BM_Shear)
-    ->Args({1000, 800, 0, 10, 500, 1000})
-    ->Args({10000, 800, 0, 10, 500, 300})
-    ->Args({1000, 800, 0, 10, 0, 200})
-    ->Args({10000, 800, 0, 10, 0, 200})
-    ->Args({100000, 800, 0, 10, 0, 200})
-    ->Args({1000, 800, 40, 10, 500, 200})
-    ->Args({1000, 800, 40, 10, 0, 50})
-    ->Args({10000, 800, 40, 10, 0, 50})
-    ->Args({100000, 800, 40, 10, 0, 20})
+    ->Args({1000, 800, 0, 10, 500, 1000, 1})
+    ->Args({10000, 800, 0, 10, 500, 300, 1})
+    ->Args({100000, 800, 0, 10, 500, 200, 1})
+    ->Args({1000, 800, 0, 10, 0, 200, 1})
+    ->Args({10000, 800, 0, 10, 0, 200, 1})
+    ->Args({100000, 800, 0, 10, 0, 200, 1})
+    ->Args({1000, 800, 40, 10, 500, 200, 1})
+    ->Args({1000, 800, 40, 10, 0, 50, 1})
+    ->Args({10000, 800, 40, 10, 0, 50, 1})
+    ->Args({100000, 800, 40, 10, 0, 10, 1})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 // Time to solution at N = 2000 (the peer comparison), γ̇dt = 10⁻³ and 5·10⁻³: 1 strain after 0.5.
 BENCHMARK(BM_Shear)
-    ->Args({2000, 600, 0, 10, 500, 1000})
-    ->Args({2000, 800, 0, 10, 500, 1000})
-    ->Args({2000, 600, 0, 50, 100, 200})
-    ->Args({2000, 800, 0, 50, 100, 200})
+    ->Args({2000, 600, 0, 10, 500, 1000, 1})
+    ->Args({2000, 800, 0, 10, 500, 1000, 1})
+    ->Args({2000, 600, 0, 50, 100, 200, 1})
+    ->Args({2000, 800, 0, 50, 100, 200, 1})
     ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+// Threads at N = 10⁵ (wall time): 1 and 2 from the same start.
+BENCHMARK(BM_Threads)
+    ->Args({100000, 800, 0, 10, 20, 50, 1})
+    ->Args({100000, 800, 0, 10, 20, 50, 2})
+    ->Args({100000, 800, 40, 10, 0, 5, 1})
+    ->Args({100000, 800, 40, 10, 0, 5, 2})
+    ->Iterations(1)
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tolerance)->Arg(1000000)->Arg(100)->Iterations(1)->Unit(benchmark::kSecond);
 

@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include <omp.h>
+
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
@@ -164,7 +166,8 @@ void Engine::detect(bool moved) {
     }
     for (const auto& found : candidate_blocks_) candidates_.insert(candidates_.end(), found.begin(), found.end());
   }
-  if (candidates_.capacity() > candidates_.size() + candidates_.size() / 2 + 64) candidates_.shrink_to_fit();  // after growth by doubling
+  // Growth by doubling (past last + last/8) leaves up to half unused.
+  if (candidates_.capacity() > candidates_.size() + candidates_.size() / 2 + 64) candidates_.shrink_to_fit();
   overlap_ = overlap;
 }
 
@@ -401,7 +404,7 @@ void Engine::select_working_set() {
   in_work_.resize(count);
   hot_.assign(count, 1);
   unknown_.assign(count, -1);
-  reorder_loops_ = false;
+  moved_.assign(strips_, 1);
 #pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::ptrdiff_t c = 0; c < count; ++c) {
     const Row& r = rows_[c];
@@ -436,16 +439,26 @@ double Engine::sweep(bool forward, double upsilon) {
   Body* bodies = bodies_.data();
   Row* rows = rows_.data();
   std::uint8_t* hot = hot_.data();
-  const int threads = settings_.threads;
+  std::uint8_t* moved = moved_.data();
+  const int threads = settings_.threads, strips = strips_;
+  const bool wrap = box_.periodic_y;
   double worst = 0;
   int changes = 0, active = 0;
+  std::int64_t visits = 0;
   for (int half = 0; half < 2; ++half) {
     const int parity = forward ? half : 1 - half;
-    const int count = (strips_ - parity + 1) / 2;  // strips of this parity
+    const int count = (strips - parity + 1) / 2;  // strips of this parity
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) \
-    reduction(max : worst) reduction(+ : changes, active)
+    reduction(max : worst) reduction(+ : changes, active, visits)
     for (int t = 0; t < count; ++t) {
       const int strip = parity + 2 * t, first = start[strip], last = start[strip + 1];
+      // A strip whose corrections and whose neighbours' (the last time each was swept) all
+      // stayed below Υ has settled; check() confirms it at the end.
+      const int below = strip > 0 ? strip - 1 : (wrap ? strips - 1 : strip);
+      const int above = strip + 1 < strips ? strip + 1 : (wrap ? 0 : strip);
+      if (!moved[strip] && !moved[below] && !moved[above]) continue;
+      double strip_worst = 0;
+      visits += last - first;
       for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
         const int c = work[q];
         Row& r = rows[c];
@@ -462,7 +475,7 @@ double Engine::sweep(bool forward, double upsilon) {
           const double dpt = pt - r.pt;
           // Compare before dividing: the division is only needed for a new maximum.
           const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
-          if (d > worst * r.inv_w) worst = d / r.inv_w;
+          if (d > strip_worst * r.inv_w) strip_worst = d / r.inv_w;
           r.pn = pn;
           r.pt = pt;
           const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
@@ -475,7 +488,7 @@ double Engine::sweep(bool forward, double upsilon) {
         } else {
           // μ = 0: P_t stays 0 and the spins never change.
           const double d = std::fabs(dpn);
-          if (d > worst * r.inv_w) worst = d / r.inv_w;
+          if (d > strip_worst * r.inv_w) strip_worst = d / r.inv_w;
           changes += (pn > 0) != (r.pn > 0);
           active += pn > 0;
           hot[c] = d >= upsilon * r.inv_w;
@@ -487,10 +500,13 @@ double Engine::sweep(bool forward, double upsilon) {
           b.vy -= b.inv_mass * py;
         }
       }
+      moved[strip] = strip_worst >= upsilon;
+      worst = std::max(worst, strip_worst);
     }
   }
   status_changes_ = changes;
   active_rows_ = active;
+  report_.contact_updates += visits;
   return worst;
 }
 
@@ -518,15 +534,18 @@ double Engine::check(bool everywhere) {
     }
   }
   report_.contact_updates += visited;
-  if (joined) group_working_set();
+  if (joined) {
+    group_working_set();
+    moved_.assign(strips_, 1);
+  }
   return worst;
 }
 
 // One exact solve, for the current active set, of each cluster of active contacts (joined
 // through mobile grains) in which some contact was still corrected by Υ or more in the last
-// sweep: W_AA·ΔP_A = b_A − u_A on the normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
-// Returns false, changing nothing, when the factor would be too large to pay off.
-bool Engine::solve_clusters() {
+// sweep: W_AA·ΔP_A = b_A − u_A on its normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
+// Clusters share no mobile grain, so threads take them in any order.
+void Engine::solve_clusters() {
   const int n = int(bodies_.size());
   auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   // Clusters of the active rows (all in the working set), by union–find over bodies.
@@ -547,137 +566,154 @@ bool Engine::solve_clusters() {
     }
   }
   // A row belongs to the cluster of a mobile body of it (a fixed body couples nothing).
+  // Hot clusters are numbered in order of appearance; cluster_id_ per root: −2 cold, −1 hot.
   auto cluster_of = [&](const Row& r) { return root(mobile(r.i) ? r.i : r.j); };
-  hot_cluster_.assign(n, 0);
+  cluster_id_.assign(n, -2);
   for (int c : active_)
-    if (hot_[c]) hot_cluster_[cluster_of(rows_[c])] = 1;
+    if (hot_[c]) cluster_id_[cluster_of(rows_[c])] = -1;
+  int clusters = 0;
+  std::size_t kept = 0;
+  for (int c : active_) {
+    int& id = cluster_id_[cluster_of(rows_[c])];
+    if (id == -2) continue;
+    if (id == -1) id = clusters++;
+    active_[kept++] = c;
+  }
+  active_.resize(kept);
 
-  // Unknowns: the active rows of hot clusters, listed per mobile body.
-  cluster_start_.assign(n + 1, 0);
-  int m = 0;
+  // The rows of each cluster (in sweep order), and of each mobile body.
+  cluster_start_.assign(clusters + 1, 0);
+  body_start_.assign(n + 1, 0);
   for (int c : active_) {
     const Row& r = rows_[c];
-    if (!hot_cluster_[cluster_of(r)]) continue;
-    active_[m++] = c;
-    if (mobile(r.i)) ++cluster_start_[r.i + 1];
-    if (mobile(r.j)) ++cluster_start_[r.j + 1];
+    ++cluster_start_[cluster_id_[cluster_of(r)] + 1];
+    if (mobile(r.i)) ++body_start_[r.i + 1];
+    if (mobile(r.j)) ++body_start_[r.j + 1];
   }
-  active_.resize(m);
-  if (m == 0) return true;
-  for (int b = 0; b < n; ++b) cluster_start_[b + 1] += cluster_start_[b];
-  refill(cluster_rows_, cluster_start_[n]);
-  degree_.assign(n, 0);
-  for (int c : active_)
-    for (int b : {rows_[c].i, rows_[c].j})
-      if (mobile(b)) cluster_rows_[cluster_start_[b] + degree_[b]++] = c;
+  for (int k = 0; k < clusters; ++k) cluster_start_[k + 1] += cluster_start_[k];
+  for (int b = 0; b < n; ++b) body_start_[b + 1] += body_start_[b];
+  refill(cluster_rows_, active_.size());
+  refill(body_rows_, body_start_[n]);
+  bucket_.assign(cluster_start_.begin(), cluster_start_.end() - 1);
+  degree_.assign(n, 0);  // ends as the number of rows at each body
+  for (int c : active_) {
+    const Row& r = rows_[c];
+    cluster_rows_[bucket_[cluster_id_[cluster_of(r)]]++] = c;
+    for (int b : {r.i, r.j})
+      if (mobile(b)) body_rows_[body_start_[b] + degree_[b]++] = c;
+  }
 
-  // Numbering (unknown_row_[k] = row of unknown k): first peel leaves, bodies left with a
-  // single unnumbered row, since such a row eliminates without fill-in (clusters are mostly
-  // trees); then the loops that remain, in sweep order.
-  unknown_row_.clear();
+  const int threads = settings_.threads;
+  cluster_scratch_.resize(threads);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)
+  for (int k = 0; k < clusters; ++k) solve_cluster(k, cluster_scratch_[omp_get_thread_num()]);
+}
+
+// The solve of cluster k (see solve_clusters()). Returns false, changing nothing, when its
+// factor would be too large to pay off.
+bool Engine::solve_cluster(int k, ClusterScratch& w) {
+  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
+  const int* members = cluster_rows_.data() + cluster_start_[k];
+  const int m = cluster_start_[k + 1] - cluster_start_[k];
+  // Numbering (w.order[u] = row of unknown u): first peel leaves, bodies left with a single
+  // unnumbered row, since such a row eliminates without fill-in (clusters are mostly trees);
+  // then the loops that remain, in sweep order.
+  w.order.clear();
   auto number = [&](int c) {
-    unknown_[c] = int(unknown_row_.size());
-    unknown_row_.push_back(c);
+    unknown_[c] = int(w.order.size());
+    w.order.push_back(c);
   };
-  peel_.clear();
-  for (int b = 0; b < n; ++b)
-    if (degree_[b] == 1) peel_.push_back(b);
-  for (std::size_t q = 0; q < peel_.size(); ++q) {
-    const int b = peel_[q];
-    for (int p = cluster_start_[b]; p < cluster_start_[b + 1]; ++p) {
-      const int c = cluster_rows_[p];
+  w.peel.clear();
+  for (int q = 0; q < m; ++q)
+    for (int b : {rows_[members[q]].i, rows_[members[q]].j})
+      if (mobile(b) && degree_[b] == 1) w.peel.push_back(b);
+  for (std::size_t q = 0; q < w.peel.size(); ++q) {
+    const int b = w.peel[q];
+    for (int p = body_start_[b]; p < body_start_[b + 1]; ++p) {
+      const int c = body_rows_[p];
       if (unknown_[c] >= 0) continue;
       number(c);
       const int other = rows_[c].i == b ? rows_[c].j : rows_[c].i;
-      if (mobile(other) && --degree_[other] == 1) peel_.push_back(other);
+      if (mobile(other) && --degree_[other] == 1) w.peel.push_back(other);
     }
   }
-  const int peeled = int(unknown_row_.size());
-  for (int c : active_)
-    if (unknown_[c] < 0) number(c);
+  const int peeled = int(w.order.size());
+  for (int q = 0; q < m; ++q)
+    if (unknown_[members[q]] < 0) number(members[q]);
 
-  // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in
-  // sweep order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
-  // approximate minimum degree (for the rest of the step at once: the active set changes
-  // little between its solves); beyond 8 even then, Gauss–Seidel alone is cheaper.
+  // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in sweep
+  // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
+  // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
   auto factor = [&](std::size_t fill) {
-    assemble_clusters();
-    return ldl_.factor(m, matrix_start_, matrix_row_, matrix_value_, 1e-9, fill * matrix_row_.size() + 1024);
+    assemble_cluster(w);
+    return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64);
   };
-  bool factored = !reorder_loops_ && factor(4);
+  bool factored = factor(4);
   if (!factored && peeled < m) {
-    reorder_loops_ = true;
-    order_loops(peeled);
+    order_loops(w, peeled);
     factored = factor(8);
   }
   if (factored) {
-    ldl_.solve(rhs_);
-    for (int k = 0; k < m; ++k) {
-      Row& r = rows_[unknown_row_[k]];
-      const double pn = std::max(0.0, r.pn + rhs_[k]);
+    w.ldl.solve(w.rhs);
+    for (int u = 0; u < m; ++u) {
+      Row& r = rows_[w.order[u]];
+      const double pn = std::max(0.0, r.pn + w.rhs[u]);
       const double dpn = pn - r.pn;
       r.pn = pn;
-      Body& a = bodies_[r.i];
-      Body& b = bodies_[r.j];
-      a.vx += a.inv_mass * dpn * r.nx;
-      a.vy += a.inv_mass * dpn * r.ny;
-      b.vx -= b.inv_mass * dpn * r.nx;
-      b.vy -= b.inv_mass * dpn * r.ny;
+      // Fixed bodies (shared between clusters) are left alone: they would not move anyway.
+      for (const auto& [body, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
+        Body& b = bodies_[body];
+        if (b.inv_mass == 0) continue;
+        b.vx += sign * b.inv_mass * dpn * r.nx;
+        b.vy += sign * b.inv_mass * dpn * r.ny;
+      }
     }
   }
-  for (int c : unknown_row_) unknown_[c] = -1;
+  for (int c : w.order) unknown_[c] = -1;
   return factored;
 }
 
-// The clusters' matrix, upper triangle by columns in unknown order, and right-hand side:
+// The cluster's matrix, upper triangle by columns in unknown order, and right-hand side:
 // W_ab = Σ over the mobile bodies shared by rows a and b of s_a·s_b·(n̂_a·n̂_b)/m, with
 // s = +1 for the body of grain i, −1 for that of grain j; b_a − u_a at the current velocities.
-void Engine::assemble_clusters() {
-  const int m = int(unknown_row_.size());
-  matrix_start_.assign(m + 1, 0);
-  matrix_row_.clear();
-  matrix_value_.clear();
-  // Room for the entries: at most d(d + 1)/2 from a body with d rows.
-  std::size_t entries = 0;
-  for (std::size_t b = 0; b + 1 < cluster_start_.size(); ++b) {
-    const std::size_t d = cluster_start_[b + 1] - cluster_start_[b];
-    entries += d * (d + 1) / 2;
-  }
-  fit_capacity(matrix_row_, entries);
-  fit_capacity(matrix_value_, entries);
-  rhs_.resize(m);
-  for (int k = 0; k < m; ++k) {
-    const Row& a = rows_[unknown_row_[k]];
+void Engine::assemble_cluster(ClusterScratch& w) const {
+  const int m = int(w.order.size());
+  w.start.assign(m + 1, 0);
+  w.row.clear();
+  w.value.clear();
+  w.rhs.resize(m);
+  for (int u = 0; u < m; ++u) {
+    const Row& a = rows_[w.order[u]];
     const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
-    rhs_[k] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
+    w.rhs[u] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
     for (int body : {a.i, a.j}) {
       const double inv_mass = bodies_[body].inv_mass;
       if (inv_mass == 0) continue;
       const double sa = body == a.i ? 1.0 : -1.0;
-      for (int p = cluster_start_[body]; p < cluster_start_[body + 1]; ++p) {
-        const int other = unknown_[cluster_rows_[p]];
-        if (other > k) continue;
-        const Row& b = rows_[cluster_rows_[p]];
+      for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
+        const int other = unknown_[body_rows_[p]];
+        if (other > u) continue;
+        const Row& b = rows_[body_rows_[p]];
         const double sb = body == b.i ? 1.0 : -1.0;
-        matrix_row_.push_back(other);
-        matrix_value_.push_back(sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
+        w.row.push_back(other);
+        w.value.push_back(sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
       }
     }
-    matrix_start_[k + 1] = int(matrix_row_.size());
+    w.start[u + 1] = int(w.row.size());
   }
 }
 
-// Reorders the unknowns from `first` on (the loops left after peeling) by approximate
-// minimum degree (Eigen's AMD) on their coupling pattern.
-void Engine::order_loops(int first) {
-  const int q = int(unknown_row_.size()) - first;
+// Reorders the cluster's unknowns from `first` on (the loops left after peeling) by
+// approximate minimum degree (Eigen's AMD) on their coupling pattern.
+void Engine::order_loops(ClusterScratch& w, int first) {
+  const int q = int(w.order.size()) - first;
   std::vector<Eigen::Triplet<double>> pattern;
   for (int t = 0; t < q; ++t) {
-    const Row& a = rows_[unknown_row_[first + t]];
+    const Row& a = rows_[w.order[first + t]];
     for (int body : {a.i, a.j}) {
       if (bodies_[body].inv_mass == 0) continue;
-      for (int p = cluster_start_[body]; p < cluster_start_[body + 1]; ++p) {
-        const int u = unknown_[cluster_rows_[p]] - first;
+      for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
+        const int u = unknown_[body_rows_[p]] - first;
         if (u >= 0 && u <= t) pattern.emplace_back(t, u, 1.0);
       }
     }
@@ -686,10 +722,10 @@ void Engine::order_loops(int first) {
   loops.setFromTriplets(pattern.begin(), pattern.end());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
   Eigen::AMDOrdering<int>()(loops, order);  // order.indices()[k]: the k-th to eliminate
-  active_.assign(unknown_row_.begin() + first, unknown_row_.end());
+  w.peel.assign(w.order.begin() + first, w.order.end());
   for (int k = 0; k < q; ++k) {
-    const int c = active_[order.indices()[k]];
-    unknown_row_[first + k] = c;
+    const int c = w.peel[order.indices()[k]];
+    w.order[first + k] = c;
     unknown_[c] = first + k;
   }
 }
@@ -704,14 +740,13 @@ void Engine::solve() {
   if (rows_.empty()) return;
   const double upsilon = settings_.tolerance / dt_;
   const bool friction = material_.friction > 0;
-  bool clusters = settings_.cluster_solves && !friction;
+  const bool clusters = settings_.cluster_solves && !friction;
   int next_cluster_solve = 2, cluster_wait = 1;
   select_working_set();
   for (int it = 1; it <= settings_.max_iterations; ++it) {
     const bool forward = it % 2 == 1;  // alternate directions: symmetric Gauss–Seidel
     const double worst = friction ? sweep<true>(forward, upsilon) : sweep<false>(forward, upsilon);
     rep.iterations = it;
-    rep.contact_updates += std::int64_t(work_.size());
     if (worst < upsilon) {
       // A sweep's own corrections only bound the residual; confirm on the final velocities,
       // on every candidate.
@@ -720,12 +755,14 @@ void Engine::solve() {
         rep.residual = res * dt_;
         return;
       }
+      moved_.assign(strips_, 1);
     } else if (clusters && it >= next_cluster_solve && 100 * status_changes_ <= active_rows_) {
       // The active set has (nearly) settled: solve its clusters exactly. While it keeps
       // changing, each solve waits twice as many sweeps as the one before, so that their
       // number stays logarithmic in the sweeps of the step.
-      clusters = solve_clusters();
-      rep.cluster_solves += clusters;
+      solve_clusters();
+      ++rep.cluster_solves;
+      moved_.assign(strips_, 1);
       next_cluster_solve = it + cluster_wait;
       cluster_wait *= 2;
     } else if (it % 16 == 0) {
@@ -837,15 +874,17 @@ const StepReport& Engine::step() {
 std::size_t Engine::allocated_bytes() const {
   const GrainState& s = state_;
   const ContactRecords& r = records_;
-  std::size_t blocks = bytes(candidate_blocks_);
+  std::size_t blocks = bytes(candidate_blocks_) + bytes(cluster_scratch_);
   for (const auto& b : candidate_blocks_) blocks += bytes(b);
-  return blocks + bytes(strip_of_) + bytes(row_strip_) + bytes(work_start_) + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
+  for (const ClusterScratch& w : cluster_scratch_)
+    blocks += bytes(w.order) + bytes(w.peel) + bytes(w.start) + bytes(w.row) + bytes(w.value) + bytes(w.rhs) +
+              w.ldl.allocated_bytes();
+  return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
-         bytes(scratch_) + bytes(body_of_) + bytes(row_of_) + bytes(bodies_) + bytes(rows_) + bytes(row_age_) +
-         bytes(work_) + bytes(in_work_) + bytes(hot_) + bytes(active_) + bytes(cluster_) + bytes(cluster_start_) +
-         bytes(cluster_rows_) + bytes(degree_) + bytes(peel_) + bytes(unknown_) + bytes(unknown_row_) +
-         bytes(hot_cluster_) +
-         bytes(matrix_start_) + bytes(matrix_row_) + bytes(matrix_value_) + bytes(rhs_) + ldl_.allocated_bytes() +
+         bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(row_of_) + bytes(row_strip_) + bytes(bodies_) +
+         bytes(rows_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(hot_) +
+         bytes(moved_) + bytes(active_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
+         bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
          bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +
          bytes(r.pre_normal_velocity) + bytes(r.age);

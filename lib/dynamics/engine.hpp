@@ -42,6 +42,8 @@
 //    first, then odd ones: no two contacts of different strips of one parity share a
 //    grain, so threads sweep them at once (SolverSettings::threads), and the order of
 //    the updates, hence every bit of the result, is the same for any number of threads;
+//    strips that have settled (all corrections below Υ there and next door the last
+//    time round) are skipped;
 //  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
 //    the clusters of active contacts still above the tolerance are solved exactly for
 //    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
@@ -85,7 +87,7 @@ struct StepReport {
   int candidates = 0;          // pairs handed to the solver
   int contacts = 0;            // pairs with P_n > 0
   std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
-  int cluster_solves = 0;      // exact solves of frictionless clusters
+  int cluster_solves = 0;      // passes of exact solves of frictionless clusters
   bool pairs_rebuilt = false;  // the pair list was rebuilt for the next step
   double max_overlap = 0;      // max(0, −g) over all pairs after the position update
 };
@@ -182,9 +184,11 @@ class Engine {
   template <bool Friction>
   double sweep(bool forward, double upsilon);
   double check(bool everywhere);
-  bool solve_clusters();
-  void assemble_clusters();
-  void order_loops(int first);
+  struct ClusterScratch;
+  void solve_clusters();
+  bool solve_cluster(int k, ClusterScratch& w);
+  void assemble_cluster(ClusterScratch& w) const;
+  void order_loops(ClusterScratch& w, int first);
   void record_contacts();
   void store_bodies();
   void advance();
@@ -206,11 +210,11 @@ class Engine {
   std::vector<std::vector<Candidate>> candidate_blocks_;  // per block of pairs, with threads
   std::vector<int> bucket_, scratch_;
 
-  std::vector<int> body_of_;   // grain → body (internal spatial order)
-  std::vector<int> strip_of_;  // body → strip of the sweep schedule
+  std::vector<int> body_of_;    // grain → body (internal spatial order)
+  std::vector<int> strip_of_;   // body → strip of the sweep schedule
   int strips_ = 1;
-  std::vector<int> row_of_;    // candidate → row (sweep order)
-  std::vector<int> row_strip_;  // row → strip (that of its lower body; across the periodic boundary the top one)
+  std::vector<int> row_of_;     // candidate → row (sweep order)
+  std::vector<int> row_strip_;  // row → strip: its lower body's (across the periodic boundary, the top one)
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
   std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
@@ -220,17 +224,21 @@ class Engine {
   // and per row whether the last sweep still corrected it by Υ or more.
   std::vector<int> work_, work_start_;
   std::vector<std::uint8_t> in_work_, hot_;
+  std::vector<std::uint8_t> moved_;  // per strip: corrected by Υ or more when last swept
   int status_changes_ = 0, active_rows_ = 0;
 
-  // Cluster solves: union–find over bodies, the rows to solve listed per body, unknown
-  // numbering (row → unknown, −1 if none; unknown → row), the matrix (upper triangle by
-  // columns) and its factor.
-  std::vector<int> active_, cluster_, cluster_start_, cluster_rows_, degree_, peel_, unknown_, unknown_row_;
-  bool reorder_loops_ = false;  // in this step, loops in sweep order filled in too much
-  std::vector<std::uint8_t> hot_cluster_;
-  std::vector<int> matrix_start_, matrix_row_;
-  std::vector<double> matrix_value_, rhs_;
-  SparseLdl ldl_;
+  // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
+  // and by body, rows per body left to peel, and each row's unknown in its cluster (−1 if none).
+  std::vector<int> active_, cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
+  std::vector<int> degree_, unknown_;
+  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
+  // by columns), right-hand side and factor.
+  struct ClusterScratch {
+    std::vector<int> order, peel, start, row;
+    std::vector<double> value, rhs;
+    SparseLdl ldl;
+  };
+  std::vector<ClusterScratch> cluster_scratch_;
 
   // Memory of the previous step, sorted by key = (i << 32) | j.
   std::vector<std::uint64_t> prev_key_;

@@ -7,9 +7,11 @@ namespace granflow {
 bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<int>& row,
                        const std::vector<double>& value, double drop, std::size_t max_fill) {
   // Symbolic: elimination tree (parent_) and the nonzero count of each column of L.
+  // Gives up as soon as the fill exceeds max_fill, so that a refusal costs no more than that.
   parent_.assign(n, -1);
   flag_.assign(n, -1);
   count_.assign(n, 0);
+  std::size_t fill = 0;
   for (int k = 0; k < n; ++k) {
     flag_[k] = k;
     for (int p = start[k]; p < start[k + 1]; ++p)
@@ -17,11 +19,12 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
         if (parent_[i] == -1) parent_[i] = k;
         ++count_[i];
         flag_[i] = k;
+        ++fill;
       }
+    if (fill > max_fill) return false;
   }
   start_.assign(n + 1, 0);
   for (int k = 0; k < n; ++k) start_[k + 1] = start_[k] + count_[k];
-  if (std::size_t(start_[n]) > max_fill) return false;
 
   // Numeric, row by row: row k of L solves a triangular system with the rows above,
   // whose nonzero pattern is the union of the tree paths from A's entries in column k.
