@@ -16,6 +16,9 @@ void add_contact_options(CommandLine& cli) {
   cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
   cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
   cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.1 mean diameter", "0");
+  cli.option("threads", 0, "N",
+             "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it",
+             "1");
 }
 
 Material material_option(const CommandLine& cli) {
@@ -37,6 +40,9 @@ SolverSettings solver_option(const CommandLine& cli) {
   if (settings.max_iterations < 1) throw UsageError("option --max-iterations: must be >= 1");
   settings.alert_distance = cli.real("alert-distance");
   require_in_range("alert-distance", settings.alert_distance, 0, INFINITY, false, true);
+  const long long threads = cli.integer("threads");
+  if (threads < 1 || threads > 256) throw UsageError("option --threads: must be in [1, 256]");
+  settings.threads = int(threads);
   return settings;
 }
 
@@ -50,7 +56,8 @@ void add_run_options(CommandLine& cli, const std::string& observe_every) {
 std::string run_signature(const CommandLine& cli) {
   std::string s;
   for (const auto& [name, value] : cli.values())
-    if (name != "resume" && name != "checkpoint-every") s += name + "=" + value + ";";
+    // Options that cannot change the trajectory may differ on --resume.
+    if (name != "resume" && name != "checkpoint-every" && name != "threads") s += name + "=" + value + ";";
   return s;
 }
 

@@ -17,7 +17,7 @@
 namespace granflow {
 
 // --restitution, --tangential-restitution, --friction, --tolerance, --max-iterations,
-// --alert-distance.
+// --alert-distance, --threads.
 void add_contact_options(CommandLine& cli);
 // The values of those options, validated (UsageError naming the option).
 Material material_option(const CommandLine& cli);

@@ -108,6 +108,21 @@ TEST(GfShearBranch, FromAStoredFrameEqualsTheOriginalRun) {
   for (std::size_t k = 0; k < p_branch.size(); ++k) ASSERT_EQ(p_branch[k], p_ref[k + 500]) << k;
 }
 
+// --threads splits the solver's work without changing its order: the same file content.
+TEST(GfShearThreads, TwoThreadsGiveTheSameTrajectory) {
+  ScratchDir dir("shear_threads");
+  for (const char* threads : {"1", "2"})
+    ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 300 " + kRun + " --threads " + threads + " -o " +
+                                       (dir / (std::string("t") + threads + ".h5")))
+                  .exit_code,
+              0);
+  io::TrajectoryReader one(dir / "t1.h5"), two(dir / "t2.h5");
+  ASSERT_EQ(one.frame_count(), two.frame_count());
+  for (std::size_t k = 0; k < one.frame_count(); ++k)
+    expect_same_frame(one.frame(k), two.frame(k), "frame " + std::to_string(k));
+  EXPECT_EQ(one.observable_scalar("pressure"), two.observable_scalar("pressure"));
+}
+
 TEST(GfShearBranch, BagnoldRescalingOnRateChange) {
   // Branching a run at 100× the rate is the same trajectory played 100× faster:
   // positions identical step for step up to round-off, stresses ×10⁴.
@@ -164,6 +179,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"strain_step_nan", "-i {in} -o {out} --strain-step nan", "--strain-step"},
                       Case{"rate_nan", "-i {in} -o {out} --rate nan", "--rate"},
                       Case{"tolerance_zero", "-i {in} -o {out} --tolerance 0", "--tolerance"},
+                      Case{"threads_zero", "-i {in} -o {out} --threads 0", "--threads"},
                       Case{"missing_input_option", "-o {out}", "--input"},
                       Case{"missing_input_file", "-i {out}.missing -o {out}", "missing"},
                       Case{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10", "--temperature"},
