@@ -75,16 +75,6 @@ void validate(const GrainState& s, const Box& box, double rate, const Material& 
 
 }  // namespace
 
-void ContactRecords::clear() {
-  pair.clear();
-  normal_force.clear();
-  tangential_force.clear();
-  branch.clear();
-  binary_force.clear();
-  pre_normal_velocity.clear();
-  age.clear();
-}
-
 Engine::Engine(GrainState state, Box box, double rate, Material material, SolverSettings settings,
                double dt, Vec2 gravity)
     : state_(std::move(state)), box_(box), rate_(rate), dt_(dt), material_(material),

@@ -55,6 +55,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/contact_records.hpp"
 #include "core/vec.hpp"
 #include "dynamics/grains.hpp"
 #include "dynamics/sparse_ldl.hpp"
@@ -92,23 +93,6 @@ struct StepReport {
   double max_overlap = 0;      // max(0, −g) over all pairs after the position update
 };
 
-// The contacts (P_n > 0) of the last step, one row each, sorted by (i, j).
-struct ContactRecords {
-  std::vector<std::array<int, 2>> pair;          // (i, j) with i < j
-  std::vector<double> normal_force;              // P_n/dt ≥ 0, on i along n̂
-  std::vector<double> tangential_force;          // P_t/dt, on i along t̂ = perp(n̂)
-  std::vector<Vec2> branch;                      // r_i − r_j (minimum image), n̂ = branch/|branch|
-  // Force of the same pair as an isolated binary collision (eq. 5.4, A.5):
-  // (1 + e)·m_ij·max(0, −u_n⁻)/dt, m_ij the reduced mass (m_i for a fixed partner).
-  std::vector<double> binary_force;
-  std::vector<std::array<double, 2>> pre_normal_velocity;  // ṽ_i·n̂, ṽ_j·n̂ before the step
-  // Consecutive steps, this one included, in which the pair had P_n > 0 (1: new contact;
-  // ≥ 2: "long-lived" in the sense of §6.2.2).
-  std::vector<int> age;
-
-  std::size_t size() const { return pair.size(); }
-  void clear();
-};
 
 // What a step passes to the next one: the contacts' forces (warm start P = F·dt) and
 // ages. Part of the dynamical state: a restart is bit-identical only if this is

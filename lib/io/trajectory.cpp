@@ -4,16 +4,6 @@
 
 namespace granflow::io {
 
-void ContactRecords::clear() {
-  pair.clear();
-  normal_force.clear();
-  tangential_force.clear();
-  branch.clear();
-  binary_force.clear();
-  pre_normal_velocity.clear();
-  age.clear();
-}
-
 const Parameters::Value& Parameters::find(const std::string& name) const {
   auto it = values_.find(name);
   if (it == values_.end()) {

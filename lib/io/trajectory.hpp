@@ -24,6 +24,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/contact_records.hpp"
 #include "core/error.hpp"
 #include "core/vec.hpp"
 #include "geometry/box.hpp"
@@ -35,19 +36,8 @@ struct GrainProperties {
   std::vector<std::uint8_t> fixed;  // 1 for immobile base grains (incline)
 };
 
-// Contacts of one frame, one entry per contact in every column.
-struct ContactRecords {
-  std::vector<std::array<std::int32_t, 2>> pair;        // grain indices (i, j)
-  std::vector<double> normal_force, tangential_force;
-  std::vector<Vec2> branch;                             // r_i − r_j, minimum image
-  std::vector<double> binary_force;                     // F_bc (thesis eq. 5.4)
-  // v_i·n̂, v_j·n̂ before the step (fluctuating part)
-  std::vector<std::array<double, 2>> pre_normal_velocity;
-  std::vector<std::int64_t> age;                        // steps the contact has existed
-
-  std::size_t size() const { return pair.size(); }
-  void clear();
-};
+// Contacts of one frame (the engine's type: see core/contact_records.hpp).
+using ContactRecords = granflow::ContactRecords;
 
 struct Frame {
   std::int64_t step = 0;

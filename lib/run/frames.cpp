@@ -2,19 +2,6 @@
 
 namespace granflow {
 
-io::ContactRecords to_records(const ContactRecords& c) {
-  io::ContactRecords r;
-  r.pair.reserve(c.size());
-  for (const auto& p : c.pair) r.pair.push_back({std::int32_t(p[0]), std::int32_t(p[1])});
-  r.normal_force = c.normal_force;
-  r.tangential_force = c.tangential_force;
-  r.branch = c.branch;
-  r.binary_force = c.binary_force;
-  r.pre_normal_velocity = c.pre_normal_velocity;
-  r.age.assign(c.age.begin(), c.age.end());
-  return r;
-}
-
 io::Frame frame_of(const Engine& engine, std::int64_t step, double time) {
   const GrainState& s = engine.state();
   io::Frame f;
@@ -25,7 +12,7 @@ io::Frame frame_of(const Engine& engine, std::int64_t step, double time) {
   f.velocity = s.velocity;
   f.orientation = s.orientation;
   f.angular_velocity = s.angular_velocity;
-  f.contacts = to_records(engine.contacts());
+  f.contacts = engine.contacts();
   f.has_contacts = true;
   return f;
 }

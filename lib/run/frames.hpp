@@ -10,7 +10,6 @@ namespace granflow {
 
 // The engine's current state and the contacts of the step that produced it.
 io::Frame frame_of(const Engine& engine, std::int64_t step, double time);
-io::ContactRecords to_records(const ContactRecords& contacts);
 // The engine memory a frame's contacts encode (forces and ages of contacts with F_n > 0).
 ContactMemory memory_of(const io::ContactRecords& contacts);
 // Grain state of a stored frame (masses and fixed flags from the grain properties).
