@@ -4,11 +4,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace granflow::testing {
 
@@ -76,6 +81,40 @@ inline int wait_exit_code(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace granflow::testing
+
+namespace granflow::testing {
+
+// A bad-input case: every program must refuse it with exit code 2, one line naming the
+// problem, and no output, partial file or checkpoint left behind.
+struct BadInput {
+  const char* name;
+  const char* args;      // with {key} placeholders, {out} = the output path
+  const char* expected;  // a piece of the one-line message
+};
+// Test names and failure messages show the case name, not its bytes.
+inline void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
+inline std::string bad_input_name(const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; }
+
+// Runs `tool` with c.args, each {key} replaced by its value and {out} by a path in a fresh
+// scratch directory, plus `extra` arguments; checks the refusal.
+inline void expect_refused(const std::string& tool, const BadInput& c,
+                           const std::vector<std::pair<std::string, std::string>>& values,
+                           const std::string& extra = "") {
+  ScratchDir dir(tool + "_bad_" + c.name);
+  std::string args = c.args;
+  std::vector<std::pair<std::string, std::string>> all = values;
+  all.emplace_back("{out}", dir / "out.h5");
+  for (const auto& [key, value] : all)
+    for (auto at = args.find(key); at != std::string::npos; at = args.find(key, at + value.size()))
+      args.replace(at, key.size(), value);
+  auto r = run_tool(tool, args + extra);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 0) << "output, partial file or checkpoint left behind";
 }
 
 }  // namespace granflow::testing

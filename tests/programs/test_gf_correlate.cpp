@@ -231,12 +231,6 @@ TEST(GfCorrelate, RealShearRun) {
 // ---- bad input: exit 2, one line naming the problem, no output file left ----
 
 namespace {
-struct Case {
-  const char* name;
-  const char* args;  // {run} = a valid run, {bare} = a run without contacts, {pack} = a packing, {out} = output
-  const char* expected;
-};
-[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 const std::string& valid_run() {
   static ScratchDir dir("correlate_valid_run");
@@ -259,47 +253,37 @@ const std::string& bare_run() {
 }
 }  // namespace
 
-class GfCorrelateBadInput : public ::testing::TestWithParam<Case> {};
+class GfCorrelateBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(GfCorrelateBadInput, FailsWithExitTwoOneLineNoOutput) {
-  const Case& c = GetParam();
-  ScratchDir dir(std::string("correlate_bad_") + c.name);
-  std::string args = c.args;
-  for (auto [key, value] : {std::pair<std::string, std::string>{"{run}", valid_run()},
-                            {"{bare}", bare_run()},
-                            {"{pack}", packing()},
-                            {"{out}", dir / "out.h5"}})
-    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
-  auto r = run_tool("gf-correlate", args + " --quiet");
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_EQ(count_lines(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
-  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+  // {run}: a valid run, {bare}: a run without contacts, {pack}: a packing.
+  expect_refused("gf-correlate", GetParam(), {{"{run}", valid_run()}, {"{bare}", bare_run()}, {"{pack}", packing()}},
+                 " --quiet");
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfCorrelateBadInput,
     ::testing::Values(
-        Case{"no_contacts_stored", "{bare} -o {out}", "no contacts stored"},
-        Case{"a_packing", "{pack} -o {out}", "is a packing"},
-        Case{"from_strain_past_the_end", "{run} -o {out} --from-strain 5", "past the end of the run"},
-        Case{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},
-        Case{"missing_file", "{out}.missing -o {out}", "no such file"},
-        Case{"no_input", "-o {out}", "missing RUN.h5"},
-        Case{"missing_output", "{run}", "--output"},
-        Case{"blocks_zero", "{run} -o {out} --blocks 0", "--blocks"},
-        Case{"max_lag_beyond_half_box", "{run} -o {out} --max-lag 40", "--max-lag"},
-        Case{"bin_width_negative", "{run} -o {out} --bin-width -1", "--bin-width"},
-        Case{"angle_bins_two", "{run} -o {out} --angle-bins 2", "--angle-bins"},
-        Case{"xi_el_zero", "{run} -o {out} --xi-el 0", "--xi-el"},
-        Case{"xi_el_and_reference", "{run} -o {out} --xi-el 1 --reference {run}", "not both"},
-        Case{"reference_missing", "{run} -o {out} --reference {out}.ref", "no such file"},
-        Case{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
-        Case{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
-        Case{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
-        Case{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
-        Case{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
-    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+        BadInput{"no_contacts_stored", "{bare} -o {out}", "no contacts stored"},
+        BadInput{"a_packing", "{pack} -o {out}", "is a packing"},
+        BadInput{"from_strain_past_the_end", "{run} -o {out} --from-strain 5", "past the end of the run"},
+        BadInput{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},
+        BadInput{"missing_file", "{out}.missing -o {out}", "no such file"},
+        BadInput{"no_input", "-o {out}", "missing RUN.h5"},
+        BadInput{"missing_output", "{run}", "--output"},
+        BadInput{"blocks_zero", "{run} -o {out} --blocks 0", "--blocks"},
+        BadInput{"max_lag_beyond_half_box", "{run} -o {out} --max-lag 40", "--max-lag"},
+        BadInput{"bin_width_negative", "{run} -o {out} --bin-width -1", "--bin-width"},
+        BadInput{"angle_bins_two", "{run} -o {out} --angle-bins 2", "--angle-bins"},
+        BadInput{"xi_el_zero", "{run} -o {out} --xi-el 0", "--xi-el"},
+        BadInput{"xi_el_and_reference", "{run} -o {out} --xi-el 1 --reference {run}", "not both"},
+        BadInput{"reference_missing", "{run} -o {out} --reference {out}.ref", "no such file"},
+        BadInput{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
+        BadInput{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
+        BadInput{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
+        BadInput{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
+        BadInput{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
+    bad_input_name);
 
 TEST(GfCorrelateBadInput, NotHdf5AndOutputIsInput) {
   ScratchDir dir("correlate_bad_files");

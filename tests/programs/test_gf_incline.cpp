@@ -170,52 +170,34 @@ TEST(GfInclineEscape, GrainThroughTheBaseFailsTheRun) {
 
 // ---- bad input: exit 2, one line naming the problem, no output file left ----
 
-namespace {
-struct Case {
-  const char* name;
-  const char* args;  // {in} = a valid incline packing, {out} = the output path
-  const char* expected;
-};
-[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
-}  // namespace
-
-class GfInclineBadInput : public ::testing::TestWithParam<Case> {};
+class GfInclineBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(GfInclineBadInput, FailsWithExitTwoOneLineNoOutput) {
-  const Case& c = GetParam();
-  ScratchDir dir(std::string("incline_bad_") + c.name);
-  std::string args = c.args;
-  for (auto [key, value] : {std::pair<std::string, std::string>{"{in}", packing()}, {"{out}", dir / "out.h5"}})
-    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
-  auto r = run_tool("gf-incline", args);
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_EQ(count_lines(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
-  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+  expect_refused("gf-incline", GetParam(), {{"{in}", packing()}});  // {in}: a valid incline packing
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfInclineBadInput,
-    ::testing::Values(Case{"angle_missing", "-i {in} -o {out}", "--angle"},
-                      Case{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
-                      Case{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
-                      Case{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},
-                      Case{"angle_nan", "-i {in} -o {out} --angle nan", "--angle"},
-                      Case{"gravity_zero", "-i {in} -o {out} --angle 12 --gravity 0", "--gravity"},
-                      Case{"gravity_negative", "-i {in} -o {out} --angle 12 --gravity -1", "--gravity"},
-                      Case{"restitution_above_one", "-i {in} -o {out} --angle 12 --restitution 1.5", "--restitution"},
-                      Case{"restitution_negative", "-i {in} -o {out} --angle 12 --restitution -0.1", "--restitution"},
-                      Case{"friction_negative", "-i {in} -o {out} --angle 12 --friction -1", "--friction"},
-                      Case{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
-                      Case{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
-                      Case{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
-                      Case{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
-                      Case{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200",
+    ::testing::Values(BadInput{"angle_missing", "-i {in} -o {out}", "--angle"},
+                      BadInput{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
+                      BadInput{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
+                      BadInput{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},
+                      BadInput{"angle_nan", "-i {in} -o {out} --angle nan", "--angle"},
+                      BadInput{"gravity_zero", "-i {in} -o {out} --angle 12 --gravity 0", "--gravity"},
+                      BadInput{"gravity_negative", "-i {in} -o {out} --angle 12 --gravity -1", "--gravity"},
+                      BadInput{"restitution_above_one", "-i {in} -o {out} --angle 12 --restitution 1.5", "--restitution"},
+                      BadInput{"restitution_negative", "-i {in} -o {out} --angle 12 --restitution -0.1", "--restitution"},
+                      BadInput{"friction_negative", "-i {in} -o {out} --angle 12 --friction -1", "--friction"},
+                      BadInput{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
+                      BadInput{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
+                      BadInput{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
+                      BadInput{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
+                      BadInput{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200",
                            "--from-time"},
-                      Case{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
-                      Case{"missing_input_option", "-o {out} --angle 12", "--input"},
-                      Case{"missing_input_file", "-i {out}.missing -o {out} --angle 12", "missing"}),
-    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+                      BadInput{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
+                      BadInput{"missing_input_option", "-o {out} --angle 12", "--input"},
+                      BadInput{"missing_input_file", "-i {out}.missing -o {out} --angle 12", "missing"}),
+    bad_input_name);
 
 TEST(GfInclineBadInput, BadFiles) {
   ScratchDir dir("incline_bad_files");

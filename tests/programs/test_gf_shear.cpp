@@ -145,47 +145,29 @@ TEST(GfShearBranch, BagnoldRescalingOnRateChange) {
 
 // ---- bad input: exit 2, one line naming the problem, no output file left ----
 
-namespace {
-struct Case {
-  const char* name;
-  const char* args;  // {in} = a valid packing, {out} = the output path
-  const char* expected;
-};
-[[maybe_unused]] void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
-}  // namespace
-
-class GfShearBadInput : public ::testing::TestWithParam<Case> {};
+class GfShearBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(GfShearBadInput, FailsWithExitTwoOneLineNoOutput) {
-  const Case& c = GetParam();
-  ScratchDir dir(std::string("shear_bad_") + c.name);
-  std::string args = c.args;
-  for (auto [key, value] : {std::pair<std::string, std::string>{"{in}", packing()}, {"{out}", dir / "out.h5"}})
-    for (auto at = args.find(key); at != std::string::npos; at = args.find(key)) args.replace(at, key.size(), value);
-  auto r = run_tool("gf-shear", args);
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_EQ(count_lines(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
-  EXPECT_EQ(dir.entries(), 0) << "output or partial file left behind";
+  expect_refused("gf-shear", GetParam(), {{"{in}", packing()}});  // {in}: a valid packing
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfShearBadInput,
-    ::testing::Values(Case{"restitution_above_one", "-i {in} -o {out} --restitution 1.5", "--restitution"},
-                      Case{"restitution_negative", "-i {in} -o {out} --restitution -0.1", "--restitution"},
-                      Case{"friction_negative", "-i {in} -o {out} --friction -1", "--friction"},
-                      Case{"dt_zero", "-i {in} -o {out} --dt 0", "--dt"},
-                      Case{"dt_negative", "-i {in} -o {out} --dt -1e-3", "--dt"},
-                      Case{"strain_step_nan", "-i {in} -o {out} --strain-step nan", "--strain-step"},
-                      Case{"rate_nan", "-i {in} -o {out} --rate nan", "--rate"},
-                      Case{"tolerance_zero", "-i {in} -o {out} --tolerance 0", "--tolerance"},
-                      Case{"threads_zero", "-i {in} -o {out} --threads 0", "--threads"},
-                      Case{"missing_input_option", "-o {out}", "--input"},
-                      Case{"missing_input_file", "-i {out}.missing -o {out}", "missing"},
-                      Case{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10", "--temperature"},
-                      Case{"frame_out_of_range", "-i {in} -o {out} --frame 4", "--frame"},
-                      Case{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
-    [](const ::testing::TestParamInfo<Case>& param_info) { return std::string(param_info.param.name); });
+    ::testing::Values(BadInput{"restitution_above_one", "-i {in} -o {out} --restitution 1.5", "--restitution"},
+                      BadInput{"restitution_negative", "-i {in} -o {out} --restitution -0.1", "--restitution"},
+                      BadInput{"friction_negative", "-i {in} -o {out} --friction -1", "--friction"},
+                      BadInput{"dt_zero", "-i {in} -o {out} --dt 0", "--dt"},
+                      BadInput{"dt_negative", "-i {in} -o {out} --dt -1e-3", "--dt"},
+                      BadInput{"strain_step_nan", "-i {in} -o {out} --strain-step nan", "--strain-step"},
+                      BadInput{"rate_nan", "-i {in} -o {out} --rate nan", "--rate"},
+                      BadInput{"tolerance_zero", "-i {in} -o {out} --tolerance 0", "--tolerance"},
+                      BadInput{"threads_zero", "-i {in} -o {out} --threads 0", "--threads"},
+                      BadInput{"missing_input_option", "-o {out}", "--input"},
+                      BadInput{"missing_input_file", "-i {out}.missing -o {out}", "missing"},
+                      BadInput{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10", "--temperature"},
+                      BadInput{"frame_out_of_range", "-i {in} -o {out} --frame 4", "--frame"},
+                      BadInput{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
+    bad_input_name);
 
 TEST(GfShearBadInput, BadFiles) {
   ScratchDir dir("shear_bad_files");
