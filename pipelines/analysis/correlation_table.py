@@ -17,6 +17,9 @@ on radial bins merged `factor` at a time (C̄ area-weighted, errors in quadratur
 noise floor that |C̄| would otherwise integrate (ℓ-weighted, it would dominate). Its error
 is propagated to first order treating bins as independent (∂ξ/∂a_b = (ℓ_b − ξ)/Σa).
 In the dilute limit (all w < 0) it reduces to the force-weighted mean contact distance.
+Where the network spans the cell, C̄ keeps a plateau up to ℓ_max and ξ_|C| measures the box:
+runs with more than 5 % of ∫ℓa dℓ beyond 2ℓ_max/3 (tail_share) are flagged not measurable
+(the thesis' "ξ is too large to be measured") and left out of ν_bc.
 ξ_el is the mean ξ_|C| of the reference runs (gf-correlate's --reference, which must also be
 rows of the table); ν_bc(e, μ) is found on ξ_|C|/ξ_el exactly as gf-correlate does on its
 ξ (lib/correlation/sweep.hpp): first upward crossing of the threshold in ν, linear
@@ -105,6 +108,19 @@ def magnitude_lengths(table, k=2.0, factor=5):
     cor = table["correlation"]
     rows = [xi_magnitude(cor["r"], cor["C"][i], cor["C_error"][i], k, factor) for i in range(len(cor["C"]))]
     return np.array([x for x, _ in rows]), np.array([e for _, e in rows])
+
+
+def tail_share(r, c, error, k=2.0, factor=5, outer=2 / 3):
+    """Share of ∫ℓ a dℓ (the numerator of ξ_|C|) coming from ℓ > outer·ℓ_max. Where the force
+    network spans the box, C̄ keeps a plateau up to ℓ_max (the sum rule spreads −W/2 over the
+    whole cell) and ξ_|C| measures the box, not the network: the thesis' "ξ is too large to be
+    measured". NaN without signal."""
+    r, c, error = rebin(r, c, error, factor)
+    ok = np.isfinite(c) & np.isfinite(error)
+    r, c, error = r[ok], c[ok], error[ok]
+    a = r * np.maximum(np.abs(c) - k * error, 0.0)
+    total = a.sum()
+    return float(a[r > outer * (r[-1] + 0.5 * (r[1] - r[0]))].sum() / total) if total > 0 else NAN
 
 
 def reference_rows(table):
@@ -202,9 +218,13 @@ def peak_agreement(ratio, peak, threshold=1.25):
     return np.isfinite(ratio) & (expected == (peak == 1))
 
 
-def analyse(table, k=2.0, factor=5, threshold=1.25):
-    """Everything the figures and the report need beyond the table itself."""
+def analyse(table, k=2.0, factor=5, threshold=1.25, max_tail_share=0.05):
+    """Everything the figures and the report need beyond the table itself. Runs whose tail
+    share exceeds max_tail_share are not `measurable` and stay out of the ν_bc crossings."""
     xi, xi_err = magnitude_lengths(table, k, factor)
+    cor = table["correlation"]
+    tails = np.array([tail_share(cor["r"], cor["C"][i], cor["C_error"][i], k, factor) for i in range(len(xi))])
+    measurable = np.isfinite(xi) & (tails <= max_tail_share)
     refs = reference_rows(table)
     xi_el, xi_el_err = xi_el_of(xi, xi_err, refs)
     ratio, ratio_err = ratio_with_error(xi, xi_err, xi_el, xi_el_err)
@@ -212,9 +232,11 @@ def analyse(table, k=2.0, factor=5, threshold=1.25):
     series = []
     for e, mu in sorted(set(zip(runs["restitution"].round(6), runs["friction"].round(6)))):
         rows = select(table, restitution=e, friction=mu)
+        rows = rows[measurable[rows]]
         c = crossing(runs["packing_fraction"][rows], xi[rows], xi_err[rows], xi_el, xi_el_err, threshold)
         series.append(dict(c, restitution=float(e), friction=float(mu), runs=len(rows)))
-    return {"xi": xi, "xi_error": xi_err, "xi_el": xi_el, "xi_el_error": xi_el_err, "ratio": ratio,
+    return {"xi": xi, "xi_error": xi_err, "tail_share": tails, "measurable": measurable,
+            "max_tail_share": max_tail_share, "xi_el": xi_el, "xi_el_error": xi_el_err, "ratio": ratio,
             "ratio_error": ratio_err, "reference_rows": refs, "series": series, "threshold": threshold,
             "k": k, "factor": factor,
             "bin_width": float(table["correlation"]["attrs"]["bin_width"]) * factor}

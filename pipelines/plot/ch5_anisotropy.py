@@ -2,7 +2,7 @@
 """ch5_anisotropy.py --figure 5.5|5.6 TABLE.h5 OUTPUT.png: the angular dependence of ξ from
 gf-correlate's sweep table (its ξ(θ) of eq. 5.2 per sector, jackknife errors, and its fit of
 eq. 5.3). Only runs whose eq.-5.2 ξ is well defined are shown (ξ > 0 with relative error below
---max-relative-error): in dense flows the signed integrals behind ξ(θ) change sign (see
+--max-relative-error, correlations not reaching the box): in dense flows the signed integrals behind ξ(θ) change sign (see
 correlation_table.py) and ξ(θ)/ξ means nothing there.
 Fig. 5.5: ξ(θ)/σ for e = E, μ = 0 at the three highest such ν, with each run's fit.
 Fig. 5.6: 2πξ(θ)/ξ of every such run at μ = 0 (colour: e), the fit of eq. 5.3 to all of them
@@ -28,9 +28,12 @@ THESIS_A0, THESIS_THETA0 = 0.21, 0.013
 
 
 def well_defined(table, rows, max_relative_error):
+    """Rows whose eq.-5.2 ξ is positive with a small relative error and whose correlations do
+    not reach the box (correlation_table.tail_share)."""
     cor = table["correlation"]
     xi, err = cor["xi"][rows], cor["xi_error"][rows]
-    return rows[(xi > 0) & np.isfinite(err) & (err < max_relative_error * xi)]
+    measurable = ct.analyse(table)["measurable"][rows]
+    return rows[(xi > 0) & np.isfinite(err) & (err < max_relative_error * xi) & measurable]
 
 
 def main():

@@ -79,7 +79,7 @@ def main():
                      f"{int((labels > 0).sum())}/{len(labels)} grains in contact", fontsize=9)
     fig.suptitle(f"Thesis Fig. 5.1: grains in contact during a short window, coloured by cluster "
                  f"(N = {int(runs['grains'][0])})", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
     save_figure(fig, args.output)
 
 

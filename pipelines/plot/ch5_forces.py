@@ -5,7 +5,7 @@ contact, zeros included); error bars: jackknife. Labels: ξ_|C|/ξ_el (correlati
 gf-correlate's decision "peak at f > 0" or "max at f = 0" with its bootstrap confidence.
 Fig. 5.7: P(f) (points) against P(f_bc) (line) for e = E at six ν spread over the sweep.
 Fig. 5.8: log P(f), curves offset by factors of 10; left ν ≈ NU for every e, right e = E for
-every ν."""
+six ν spread over the sweep."""
 import argparse
 import os
 import sys
@@ -80,7 +80,7 @@ def main():
             row = ct.nearest(table, args.nu, restitution=e, friction=0.0)
             if row is not None:
                 nu_rows.append(row)
-        for ax, chosen, key in ((left, nu_rows, "e"), (right, list(rows), "ν")):
+        for ax, chosen, key in ((left, nu_rows, "e"), (right, spread(rows, 6), "ν")):
             for k, row in enumerate(chosen):
                 scale = 10.0 ** k
                 p, err = fo["P"][row][shown] * scale, fo["P_error"][row][shown] * scale
@@ -95,10 +95,12 @@ def main():
             ax.set_xlabel("f = F/⟨F⟩")
             ax.set_ylabel("P(f) × 10^k (offset)")
             ax.set_xlim(0, args.f_max)
+            low, high = ax.get_ylim()
+            ax.set_ylim(max(low, high * 1e-9), high * 300)  # room for the legend
             handles, labels = ax.get_legend_handles_labels()
             ax.legend(handles[::-1], labels[::-1], fontsize=7, loc="upper right")
         left.set_title(f"ν ≈ {args.nu:g}, every e", fontsize=9)
-        right.set_title(f"e = {args.restitution:g}, every ν", fontsize=9)
+        right.set_title(f"e = {args.restitution:g}, six ν spread over the sweep", fontsize=9)
         fig.suptitle("Thesis Fig. 5.8: P(f) at small f; the thesis finds a peak at f > 0 iff ξ/ξ_el < 1.22–1.25 "
                      f"(N = {int(runs['grains'][rows[0]])}, μ = 0)", fontsize=10)
     fig.tight_layout()

@@ -4,7 +4,8 @@ where ξ_|C|/ξ_el first crosses 1.25 upward in ν (correlation_table.crossing: 
 interpolation, first-order error bars), from gf-correlate's sweep table.
 Fig. 5.9: ν_bc against e (μ = 0 filled; other μ hollow), with ν_c ≈ 0.845 (thesis).
 Fig. 5.10: the phase diagram in (ν, e): every run of the sweep at μ = 0 marked dilute (ξ/ξ_el
-< 1.25) or dense, the ν_bc(e) line and ν_c. Series whose crossing is not bracketed are drawn as
+< 1.25), dense, or with correlations reaching the box (not measurable, left out of ν_bc), the
+ν_bc(e) line and ν_c. Series whose crossing is not bracketed are drawn as
 arrows at the end of the ν range they lie beyond."""
 import argparse
 import os
@@ -74,12 +75,15 @@ def main():
         title = "Thesis Fig. 5.9: ν_bc(e), where ξ_|C|/ξ_el = 1.25"
     else:
         mask = np.abs(runs["friction"]) < 1e-9
-        dense = mask & (res["ratio"] >= res["threshold"])
-        dilute = mask & (res["ratio"] < res["threshold"])
+        beyond = mask & ~res["measurable"]
+        dense = mask & res["measurable"] & (res["ratio"] >= res["threshold"])
+        dilute = mask & res["measurable"] & (res["ratio"] < res["threshold"])
         ax.plot(runs["packing_fraction"][dilute], runs["restitution"][dilute], "s", ms=4, color="tab:green",
                 alpha=0.6, label="run: ξ/ξ_el < 1.25")
         ax.plot(runs["packing_fraction"][dense], runs["restitution"][dense], "D", ms=4, color="tab:orange",
                 alpha=0.6, label="run: ξ/ξ_el ≥ 1.25")
+        ax.plot(runs["packing_fraction"][beyond], runs["restitution"][beyond], "x", ms=5, color="tab:red",
+                label="run: correlations reach the box")
         if frictionless:
             ax.plot([s["nu_bc"] for s in frictionless], [s["restitution"] for s in frictionless], "-", color="C0",
                     lw=1)
@@ -93,8 +97,10 @@ def main():
         ax.set_xlabel("packing fraction ν")
         ax.set_ylabel("restitution e")
         title = "Thesis Fig. 5.10: phase diagram of granular shear flow"
-    ax.legend(fontsize=7, loc="lower left" if args.figure == "5.9" else "lower left")
-    ax.set_title(f"{title}\nN = {int(runs['grains'][0])}, ξ_el = {res['xi_el']:.3f} ± {res['xi_el_error']:.3f}"
+    ax.legend(fontsize=7, loc="lower right" if args.figure == "5.9" else "lower left")
+    sigma = ct.mean_diameter(table)
+    ax.set_title(f"{title}\nN = {int(runs['grains'][0])}, ξ_el = ({res['xi_el'] / sigma:.3f} ± "
+                 f"{res['xi_el_error'] / sigma:.3f})σ"
                  + ("\n" + "; ".join(note) if note else ""), fontsize=8)
     save_figure(fig, args.output)
 

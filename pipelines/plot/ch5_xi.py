@@ -2,7 +2,9 @@
 """ch5_xi.py --vary restitution|friction [--restitution E] TABLE.h5 OUTPUT.png: thesis Fig. 5.3
 (ξ against ν for every e at μ = 0, inset: the dense end) or Fig. 5.4 (--vary friction: every μ
 at e = E). ξ is the pipeline's ξ_|C| (correlation_table.py) in mean diameters σ, error bars
-its propagated errors; the dashed line is ξ_el (reference runs) and the dotted one 1.25 ξ_el."""
+its propagated errors; the dashed line is ξ_el (reference runs) and the dotted one 1.25 ξ_el.
+Hollow markers: runs whose correlations reach the box (correlation_table.tail_share), where
+ξ_|C| measures the cell rather than the network (the thesis' "too large to be measured")."""
 import argparse
 import os
 import sys
@@ -41,7 +43,7 @@ def main():
     res = ct.analyse(table)
     sigma = ct.mean_diameter(table)
     nu_all = table["runs"]["packing_fraction"]
-    fig, ax = plt.subplots(figsize=(6.8, 5))
+    fig, ax = plt.subplots(figsize=(9, 5))
     inset = ax.inset_axes([0.1, 0.45, 0.42, 0.45]) if args.vary == "restitution" else None
     plotted = 0
     for k, (label, crit) in enumerate(series(table, args.vary, args.restitution)):
@@ -49,11 +51,16 @@ def main():
         if len(rows) == 0:
             continue
         nu, xi, err = nu_all[rows], res["xi"][rows] / sigma, res["xi_error"][rows] / sigma
-        ax.errorbar(nu, xi, yerr=err, fmt="o-", ms=4, capsize=2, color=f"C{k}", label=label)
+        ok = res["measurable"][rows]
+        for a, size in ((ax, 4), (inset, 3)):
+            if a is None:
+                continue
+            show = ok & (nu >= args.inset_from - 1e-9) if a is inset else ok
+            a.errorbar(nu[show], xi[show], yerr=err[show], fmt="o-", ms=size, capsize=2, color=f"C{k}",
+                       label=label if a is ax else None)
+            beyond = ~ok & (nu >= args.inset_from - 1e-9) if a is inset else ~ok
+            a.plot(nu[beyond], xi[beyond], "o", mfc="none", ms=size + 1, color=f"C{k}")
         plotted += 1
-        if inset is not None:
-            dense = nu >= args.inset_from - 1e-9
-            inset.errorbar(nu[dense], xi[dense], yerr=err[dense], fmt="o-", ms=3, capsize=2, color=f"C{k}")
     if not plotted:
         sys.exit(f"ch5_xi.py: no runs to plot in {args.table}")
     for a in [ax] + ([inset] if inset is not None else []):
@@ -62,9 +69,11 @@ def main():
     if inset is not None:
         inset.set_title(f"ν ≥ {args.inset_from:g}", fontsize=8)
         inset.tick_params(labelsize=7)
+    ax.plot([], [], "o", mfc="none", color="grey",
+            label=f"not measurable: > {100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3")
     ax.set_xlabel("packing fraction ν")
     ax.set_ylabel(r"$\xi_{|C|}/\sigma$")
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     runs = table["runs"]
     what = ("Fig. 5.3: ξ for every e, μ = 0" if args.vary == "restitution"
             else f"Fig. 5.4: ξ for every μ, e = {args.restitution:g}")
