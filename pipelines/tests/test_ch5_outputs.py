@@ -55,6 +55,13 @@ class MagnitudeLengthTest(unittest.TestCase):
         self.assertAlmostEqual(got, (R[np.argmin(np.abs(R - 1.3))] * w1 + R[np.argmin(np.abs(R - 1.5))] * w2)
                                / (w1 + w2), places=9)
 
+    def test_tail_share_flags_box_spanning_correlations(self):
+        c, err = synthetic.correlation_row(R, 1.0, noise=1e-4, rng=np.random.default_rng(2))
+        self.assertLess(ct.tail_share(R, c, err), 0.01)
+        # A network spanning the cell: a plateau of −5e-4 up to ℓ_max besides the contact peak.
+        plateau = c - np.where(R > 1.4, 5e-4, 0.0)
+        self.assertGreater(ct.tail_share(R, plateau, err), 0.05)
+
     def test_rebin_keeps_area_integral(self):
         c = np.sin(R)
         rb, cb, _ = ct.rebin(R, c, np.ones_like(R), 5)
