@@ -3,7 +3,8 @@
 Fig. 5.2 from gf-correlate's sweep table, μ = 0. Left: the isotropic C̄(ℓ) of the run nearest
 to NU (band: jackknife error). Right: log|C̄(ℓ)| for the runs nearest to NU1, NU2, ... (radial
 bins merged as for ξ_|C|; hollow markers where C̄ < 0) with the lines A·exp(−ℓ/ξ_|C|), ξ_|C| the
-pipeline's decay length (correlation_table.py) and A fitted to the points above noise."""
+pipeline's decay length (correlation_table.py) and A fitted to the points above noise. Without
+a run at E, the nearest e of the table is used."""
 import argparse
 import os
 import sys
@@ -38,10 +39,14 @@ def main():
     res = ct.analyse(table)
     cor, runs = table["correlation"], table["runs"]
     sigma = ct.mean_diameter(table)
-    crit = dict(restitution=args.restitution, friction=args.friction)
+    same_mu = np.abs(runs["friction"] - args.friction) < 1e-6
+    if not same_mu.any():
+        sys.exit(f"ch5_correlation.py: {args.table} has no run with μ = {args.friction:g}")
+    # The e asked for, or the nearest e of the table (small sweeps).
+    es = runs["restitution"][same_mu]
+    restitution = float(es[np.argmin(np.abs(es - args.restitution))])
+    crit = dict(restitution=restitution, friction=args.friction)
     main_row = ct.nearest(table, args.nu, **crit)
-    if main_row is None:
-        sys.exit(f"ch5_correlation.py: {args.table} has no run with e = {args.restitution:g}, μ = {args.friction:g}")
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
     r = cor["r"] / sigma
     c, err = cor["C"][main_row], cor["C_error"][main_row]
@@ -51,7 +56,7 @@ def main():
     left.set_xlim(0, r[-1])
     left.set_xlabel(r"$\ell/\sigma$")
     left.set_ylabel(r"$\bar C(\ell)$ (per unit area)")
-    left.set_title(f"ν = {runs['packing_fraction'][main_row]:.3f}, e = {args.restitution:g}, "
+    left.set_title(f"ν = {runs['packing_fraction'][main_row]:.3f}, e = {restitution:g}, "
                    f"ξ_|C|/ξ_el = {res['ratio'][main_row]:.2f}", fontsize=9)
     rows = []
     for nu in args.nus:
@@ -76,7 +81,7 @@ def main():
     right.set_xlabel(r"$\ell/\sigma$")
     right.set_ylabel(r"$|\bar C(\ell)|$")
     right.legend(fontsize=8, title="filled: C̄ > 0, hollow: C̄ < 0, dots: < 2 s.e.", title_fontsize=7)
-    fig.suptitle(f"Thesis Fig. 5.2: force correlation, e = {args.restitution:g}, μ = {args.friction:g} "
+    fig.suptitle(f"Thesis Fig. 5.2: force correlation, e = {restitution:g}, μ = {args.friction:g} "
                  f"(N = {int(runs['grains'][main_row])}, {int(runs['frames'][main_row])} frames; "
                  f"lines A·exp(−ℓ/ξ_|C|))", fontsize=10)
     fig.tight_layout()

@@ -5,7 +5,7 @@ contact, zeros included); error bars: jackknife. Labels: ξ_|C|/ξ_el (correlati
 gf-correlate's decision "peak at f > 0" or "max at f = 0" with its bootstrap confidence.
 Fig. 5.7: P(f) (points) against P(f_bc) (line) for e = E at six ν spread over the sweep.
 Fig. 5.8: log P(f), curves offset by factors of 10; left ν ≈ NU for every e, right e = E for
-six ν spread over the sweep."""
+six ν spread over the sweep. Without a run at E, the nearest e of the table is used."""
 import argparse
 import os
 import sys
@@ -50,9 +50,13 @@ def main():
     fo, runs = table["forces"], table["runs"]
     f, f_bc = fo["f"], fo["f_bc"]
     shown = f <= args.f_max
+    frictionless = np.abs(runs["friction"]) < 1e-9
+    if not frictionless.any():
+        sys.exit(f"ch5_forces.py: no run with μ = 0 in {args.table}")
+    # The e asked for, or the nearest e of the table (small sweeps).
+    es = runs["restitution"][frictionless]
+    args.restitution = float(es[np.argmin(np.abs(es - args.restitution))])
     rows = ct.select(table, restitution=args.restitution, friction=0.0)
-    if len(rows) == 0:
-        sys.exit(f"ch5_forces.py: no run with e = {args.restitution:g}, μ = 0 in {args.table}")
     if args.figure == "5.7":
         chosen = spread(rows, 6)
         fig, axes = plt.subplots(2, 3, figsize=(12, 6.6), squeeze=False)
