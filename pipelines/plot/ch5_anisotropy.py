@@ -95,7 +95,10 @@ def main():
     ax.set_xticks([0, np.pi / 4, np.pi / 2, 3 * np.pi / 4, np.pi])
     ax.set_xticklabels(["0", "π/4", "π/2", "3π/4 (compression)", "π"])
     ax.set_xlabel("θ (angle of ℓ to the flow direction x)")
-    ax.legend(fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
+    else:
+        ax.text(0.5, 0.5, "no run with a well-defined ξ", transform=ax.transAxes, ha="center")
     ax.set_title(f"{title}\n(gf-correlate's eq.-5.2 ξ(θ); N = {int(runs['grains'][0])}{runs_note}; "
                  f"runs with δξ/ξ < {args.max_relative_error:g})", fontsize=9)
     save_figure(fig, args.output)
