@@ -198,7 +198,8 @@ class Ch5OutputsTest(unittest.TestCase):
                        "a0 = ", "| `window1.h5` | 2 | 13 | 2 | 10 |"):
             self.assertIn(needle, text)
         # The synthetic P(f) decisions follow the rule exactly.
-        self.assertRegex(text, r"holds for (\d+) of \1 runs")
+        self.assertRegex(text, r"of the (\d+) runs with ξ/ξ_el ≥ 1.25, \1 have their maximum at f = 0; "
+                               r"of the (\d+) runs with ξ/ξ_el < 1.25, \2 have a peak")
 
 
 if __name__ == "__main__":
