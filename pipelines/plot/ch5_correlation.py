@@ -57,7 +57,9 @@ def main():
     left.set_xlabel(r"$\ell/\sigma$")
     left.set_ylabel(r"$\bar C(\ell)$ (per unit area)")
     left.set_title(f"ν = {runs['packing_fraction'][main_row]:.3f}, e = {restitution:g}, "
-                   f"ξ_|C|/ξ_el = {res['ratio'][main_row]:.2f}", fontsize=9)
+                   f"ξ_|C|/ξ_el = {res['ratio'][main_row]:.2f}"
+                   + ("" if res["measurable"][main_row] else " (correlations reach the box: not measurable)"),
+                   fontsize=9)
     rows = []
     for nu in args.nus:
         row = ct.nearest(table, nu, **crit)
@@ -69,7 +71,8 @@ def main():
         signal = np.abs(cb) > 2 * eb
         pos, neg = signal & (cb > 0), signal & (cb < 0)
         xi = res["xi"][row]
-        label = f"ν = {runs['packing_fraction'][row]:.3f}, ξ_|C| = {xi / sigma:.2f}σ"
+        label = (f"ν = {runs['packing_fraction'][row]:.3f}, ξ_|C| = {xi / sigma:.2f}σ"
+                 + ("" if res["measurable"][row] else " (reaches the box)"))
         right.plot(rb[pos] / sigma, np.abs(cb[pos]), "o", color=colour, ms=4, label=label)
         right.plot(rb[neg] / sigma, np.abs(cb[neg]), "o", mfc="none", color=colour, ms=4)
         right.plot(rb[~signal] / sigma, np.abs(cb[~signal]), ".", color=colour, ms=2, alpha=0.4)
