@@ -24,9 +24,11 @@ CH5_ANALYSIS       := pipelines/analysis/correlation_table.py pipelines/granflow
 # gf-correlate's settings beyond its defaults (none at present; e.g. --blocks 10).
 CH5_CORRELATE_ARGS ?=
 
-comma := ,
-empty :=
-space := $(empty) $(empty)
+# Every run is a row of the table, the reference too (the figures read ξ_el from its row).
+CH5_ROWS           := $(sort $(CH5_SWEEP_RUNS) $(CH5_REFERENCE_RUNS))
+ch5_comma := ,
+ch5_empty :=
+ch5_space := $(ch5_empty) $(ch5_empty)
 
 ch5-files: $(CH5_FIGURES) $(CH5_TABLES)
 
@@ -37,11 +39,11 @@ $(RUNS)/window_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
 	  --seed $(call shear_arg,s,5,$*) --steps $(CH5_WINDOW_STEPS) --strain-step $(SHEAR_STRAIN_STEP) \
 	  --frame-every 1
 
-$(RUNS)/ch5_correlate.h5: $(CH5_SWEEP_RUNS) $(CH5_REFERENCE_RUNS) $(STAMPS)/gf-correlate.stamp \
+$(RUNS)/ch5_correlate.h5: $(CH5_ROWS) $(STAMPS)/gf-correlate.stamp \
                           pipelines/sizes/$(SIZE).mk | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain $(CH5_FROM_STRAIN) \
-	  --reference $(subst $(space),$(comma),$(strip $(CH5_REFERENCE_RUNS))) $(CH5_CORRELATE_ARGS) \
-	  $(CH5_SWEEP_RUNS)
+	  --reference $(subst $(ch5_space),$(ch5_comma),$(strip $(CH5_REFERENCE_RUNS))) $(CH5_CORRELATE_ARGS) \
+	  $(CH5_ROWS)
 $(RUNS)/ch5_clusters.h5: $(CH5_WINDOW_RUNS) $(STAMPS)/gf-correlate.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain 0 --blocks 1 --bootstrap 0 \
 	  --clusters-window $(CH5_WINDOW_STEPS) $(CH5_WINDOW_RUNS)
