@@ -12,6 +12,7 @@ sys.path.insert(0, os.path.join(HERE, "analysis"))
 import h5py
 import numpy as np
 
+import correlation_table as ct
 import steady_state as ss
 from granflow_h5 import atomic_output
 
@@ -166,6 +167,139 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
     return lines
 
 
+def ch5_section(correlate_path, clusters_path):
+    """Chapter 5: force correlations, P(f) and ν_bc beside the statements of thesis ch. 5."""
+    table = ct.read_table(correlate_path)
+    res = ct.analyse(table)
+    runs, cor, fo = table["runs"], table["correlation"], table["forces"]
+    sigma = ct.mean_diameter(table)
+    thr = res["threshold"]
+    lines = ["", "## Chapter 5: microstructure (thesis §5.1–5.3, Figs 5.1–5.10)", "",
+             f"Table `{correlate_path}` (gf-correlate, one row per run): N = {int(runs['grains'][0])}, "
+             f"{int(runs['frames'].min())}–{int(runs['frames'].max())} frames per run at strain ≥ "
+             f"{float(cor['attrs']['from_strain']):g}, largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
+             f"(σ = {sigma:.4g} the mean diameter). ξ below is the pipeline's ξ_|C| (eq. 5.2 on |C̄|, radial "
+             f"bins merged to {res['bin_width'] / sigma:.2f}σ, soft-thresholded at {res['k']:g} jackknife "
+             "errors; `pipelines/analysis/correlation_table.py`); gf-correlate's own ξ (eq. 5.2 on the signed "
+             "C̄) is listed beside it: it is a harmonic mean of contact distances in dilute flows and loses "
+             "its meaning where C̄ changes sign (its denominator crosses zero).", "",
+             quote("For small values of packing fraction, Figure 5.3 shows the value of ξ approaching a limiting "
+                   "value of 0.785σ.", "555"),
+             f"Ours: ξ_el = {ct.fmt_pm(res['xi_el'] / sigma, res['xi_el_error'] / sigma)}σ from "
+             + ", ".join(f"`{os.path.basename(runs['input'][r])}`" for r in res["reference_rows"])
+             + " (C̄ is a density per unit area, so isolated contacts give ξ ≈ the contact distance ≈ σ; "
+             "only ξ/ξ_el compares with the thesis).", ""]
+    # ξ/ξ_el table, ν × e at μ = 0, with the P(f) decision.
+    frictionless = ct.select(table, friction=0.0)
+    es = np.unique(runs["restitution"][frictionless])
+    nus = np.unique(runs["packing_fraction"][frictionless])
+    lines += [quote("We notice that ξ is an increasing function of density for each value of restitution. We also "
+                    "notice, in agreement with Figure 5.1, that ξ increases as e decreases.", "553"),
+              quote("For ξ/ξ_el ≤ 1.25 there is a clear peak, whereas for ξ/ξ_el ≥ 1.25, the peak disappears and "
+                    "the maximum occurs at f = 0.", "645"),
+              "ξ_|C|/ξ_el for μ = 0; ▲ = gf-correlate finds a peak of P(f) at f > 0, ○ = maximum at f = 0 "
+              "(bootstrap confidence < 80 % in brackets); † = correlations reach the box (more than "
+              f"{100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3): not measurable, left out below:", "",
+              "| ν | " + " | ".join(f"e = {e:g}" for e in es) + " |", "|---|" + "---|" * len(es)]
+    for nu in nus:
+        cells = []
+        for e in es:
+            r = ct.select(table, restitution=e, friction=0.0, packing_fraction=nu)
+            if not len(r):
+                cells.append("–")
+                continue
+            r = r[0]
+            mark = "▲" if fo["peak"][r] == 1 else "○"
+            conf = fo["peak_confidence"][r]
+            cells.append(f"{ct.fmt_pm(res['ratio'][r], res['ratio_error'][r])}{'' if res['measurable'][r] else ' †'} "
+                         f"{mark}" + (f" ({100 * conf:.0f} %)" if conf < 0.8 else ""))
+        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + " |")
+    # The statements, checked on the measurable runs.
+    ok = res["measurable"]
+    low = nus[0]
+    low_rows = ct.select(table, friction=0.0, packing_fraction=low)
+    dev = [(runs["restitution"][r], (res["ratio"][r] - 1) / res["ratio_error"][r]) for r in low_rows]
+    rising, steps = 0, 0
+    for e in es:
+        r = ct.select(table, restitution=e, friction=0.0)
+        x = res["xi"][r[ok[r]]]
+        steps += len(x) - 1
+        rising += int(np.sum(np.diff(x) > 0))
+    ordered, pairs = 0, 0
+    for nu in nus:
+        r = ct.select(table, friction=0.0, packing_fraction=nu)
+        r = r[ok[r]]
+        r = r[np.argsort(runs["restitution"][r])]
+        pairs += len(r) - 1
+        ordered += int(np.sum(np.diff(res["xi"][r]) < 0))
+    used = frictionless[ok[frictionless]]
+    ratio, peak = res["ratio"][used], fo["peak"][used]
+    dense, dilute = ratio >= thr, ratio < thr
+    lines += ["", f"Ours: at the lowest ν = {low:.3f}, (ξ/ξ_el − 1)/error = "
+              + ", ".join(f"{d:+.1f} (e = {e:g})" for e, d in dev)
+              + f". Over the measurable runs, ξ grows with ν in {rising} of {steps} consecutive steps (all e) and "
+              f"decreases with e in {ordered} of {pairs} neighbouring pairs at fixed ν. P(f): of the "
+              f"{int(dense.sum())} runs with ξ/ξ_el ≥ {thr:g}, {int((peak[dense] == 0).sum())} have their maximum "
+              f"at f = 0; of the {int(dilute.sum())} runs with ξ/ξ_el < {thr:g}, {int((peak[dilute] == 1).sum())} "
+              "have a peak at f > 0 (the thesis: all of them). Where the peak goes, per e, is in the next table.",
+              ""]
+    # ν_bc per series.
+    sweep = table.get("sweep", {})
+    lines += [quote("This plot is for frictionless materials μ = 0, but increasing the value of μ does not change "
+                    "the curve.", "668"),
+              "Peak gone from ν: the lowest ν from which every run of the series has its P(f) maximum at f = 0.", "",
+              "| e | μ | runs | ν_bc (ξ_|C|) | status | ν_bc (gf-correlate, signed ξ) | P(f) peak gone from ν |",
+              "|---|---|---|---|---|---|---|"]
+    status_names = {0: "bracketed", 1: "all_above", 2: "all_below", 3: "too_few", 4: "only_downward"}
+    for s in res["series"]:
+        gf = "–"
+        if sweep:
+            k = np.flatnonzero((np.abs(sweep["restitution"] - s["restitution"]) < 1e-6)
+                               & (np.abs(sweep["friction"] - s["friction"]) < 1e-6))
+            if len(k):
+                k = k[0]
+                gf = (ct.fmt_pm(sweep["nu_bc"][k], sweep["nu_bc_error"][k]) if sweep["status"][k] == 0
+                      else status_names.get(int(sweep["status"][k]), "?"))
+        series_rows = ct.select(table, restitution=s["restitution"], friction=s["friction"])
+        peaks = fo["peak"][series_rows]
+        gone = [runs["packing_fraction"][series_rows][i] for i in range(len(peaks)) if (peaks[i:] == 0).all()]
+        lines.append(f"| {s['restitution']:g} | {s['friction']:g} | {s['runs']} | "
+                     f"{ct.fmt_pm(s['nu_bc'], s['nu_bc_error']) if s['status'] == 'bracketed' else '–'} | "
+                     f"{s['status']} | {gf} | {f'{gone[0]:.3f}' if gone else 'never'} |")
+    # Anisotropy: every frictionless run with a well-defined eq.-5.2 ξ.
+    ok = frictionless[(cor["xi"][frictionless] > 0) & (cor["xi_error"][frictionless] < 0.2 * cor["xi"][frictionless])
+                      & res["measurable"][frictionless]]
+    if len(ok):
+        th = cor["theta"]
+        fit = ct.fit_anisotropy(np.tile(th, len(ok)),
+                                np.concatenate([2 * np.pi * cor["xi_theta"][r] / cor["xi"][r] for r in ok]),
+                                np.concatenate([2 * np.pi * cor["xi_theta_error"][r] / cor["xi"][r] for r in ok]),
+                                float(np.pi / len(th)))
+        lines += ["", quote("The solid curve in Figure 5.6 is a fit to this equation, which sets the parameters as "
+                            "a_0 = 0.21 and θ_0 = 0.013.", "605"),
+                  f"Ours (gf-correlate's ξ(θ), {len(ok)} runs with δξ/ξ < 0.2, pooled fit of eq. 5.3): a0 = "
+                  f"{ct.fmt_pm(fit['a0'], fit['a0_error'])}, θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} "
+                  f"(χ²/dof = {fit['chi2_dof']:.2g}); per-run a0 from {np.nanmin(cor['a0'][ok]):.2f} to "
+                  f"{np.nanmax(cor['a0'][ok]):.2f}."]
+    # Clusters (Fig. 5.1).
+    if clusters_path:
+        cl_table = ct.read_table(clusters_path)
+        cl, cr = cl_table["clusters"], cl_table["runs"]
+        lines += ["", quote("For e = 0.92 the interacting grains are well spaced and tend to occur in pairs, whereas "
+                            "for e = 0 the interacting grains tend to form large clusters.", "510"),
+                  "| run | window (steps) | grains in contact | clusters | largest | mean size |",
+                  "|---|---|---|---|---|---|"]
+        for i in range(len(cr["input"])):
+            labels = cl["label"][cl["grain_offset"][i]:cl["grain_offset"][i + 1]]
+            sizes = np.bincount(labels)[1:]
+            sizes = sizes[sizes > 0]
+            lines.append(f"| `{os.path.basename(cr['input'][i])}` | "
+                         f"{int(cl['last_step'][i] - cl['first_step'][i]) + 1} | {int((labels > 0).sum())} | "
+                         f"{len(sizes)} | {sizes.max() if len(sizes) else 0} | "
+                         f"{sizes.mean() if len(sizes) else 0:.2f} |")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", required=True)
@@ -173,6 +307,8 @@ def main():
     ap.add_argument("--ch4-sweep", help="steady_state.py table of the ν × e sweep (Figs 4.4-4.6)")
     ap.add_argument("--ch4-bagnold", help="steady_state.py table of the Fig 4.2 runs")
     ap.add_argument("--ch4-reference", help="the Fig 4.3 run")
+    ap.add_argument("--ch5-correlate", help="gf-correlate table of the chapter-5 sweep (Figs 5.2-5.10)")
+    ap.add_argument("--ch5-clusters", help="gf-correlate table of the Fig 5.1 cluster windows")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
     ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
@@ -187,6 +323,8 @@ def main():
         lines.append(f"| {name} | {n} | {nu:.3f} | {got:.12f} | {ov:.2e} | {sec:.2f} | {seed} |")
     if all(ch4):
         lines += ch4_section(*ch4)
+    if args.ch5_correlate:
+        lines += ch5_section(args.ch5_correlate, args.ch5_clusters)
     out = atomic_output(args.output)
     try:
         with open(out.name, "w") as fh:

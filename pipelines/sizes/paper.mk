@@ -14,4 +14,23 @@ CH4_SEED          := 1
 CH4_FROM_STRAIN   := 0.5
 SHEAR_STRAIN      := 20
 SHEAR_STRAIN_STEP := 1e-3
-SHEAR_FRAME_EVERY := 1000
+# Frames every 100 steps: ~195 frames past strain 0.5 for chapter 5 (the thesis averages
+# C(l) over >= 5000 steps; frames 100 steps apart are nearly independent samples).
+SHEAR_FRAME_EVERY := 100
+# Chapter 5: the chapter-4 ν grid (dense steps of 0.01 as in the Fig 5.3 inset), every e
+# at μ = 0; Fig 5.4 at e = 0 for three μ (the thesis names three friction coefficients
+# without their values: 0, 0.1 and 0.4 here, 0.4 being the thesis' frictional case), up to
+# ν = 0.80 (frictional flows jam earlier; Fig 4.10 stops there too).
+CH5_NU            := $(CH4_NU)
+CH5_E             := 0.00 0.25 0.50 0.75 0.92
+CH5_MU            := 0.00 0.10 0.40
+CH5_FRICTION_E    := 0.00
+CH5_FRICTION_NU   := $(filter-out 0.810 0.820 0.830,$(CH5_NU))
+CH5_RATE          := $(CH4_RATE)
+CH5_SEED          := $(CH4_SEED)
+CH5_FROM_STRAIN   := 0.5
+CH5_REFERENCE_NU  := 0.100
+CH5_REFERENCE_E   := 0.92
+CH5_CLUSTER_NU    := 0.790
+CH5_CLUSTER_E     := 0.92 0.00
+CH5_WINDOW_STEPS  := 2

@@ -16,4 +16,26 @@ CH4_SEED          := 1
 CH4_FROM_STRAIN   := 0.5
 SHEAR_STRAIN      := 5
 SHEAR_STRAIN_STEP := 1e-3
-SHEAR_FRAME_EVERY := 1000
+# Frames every 20 steps (strain 0.02): chapter 5 averages C(l) and P(f) over the stored
+# frames of the same runs (225 frames past strain 0.5; the thesis: >= 5000 steps).
+SHEAR_FRAME_EVERY := 20
+# Chapter 5 (gf-correlate): the same runs where the grids agree. N = 1000 (half side ≈ 15σ
+# at ν = 0.8, the largest lag counted) keeps ξ measurable up to ν ≈ 0.8; the ν grid adds
+# the dilute end and the dense steps of Figs 5.2-5.3 (ν_c ≈ 0.845). Figs 5.3, 5.5-5.10 for
+# every e at μ = 0; Fig 5.4 at e = CH5_FRICTION_E for every μ over CH5_FRICTION_NU (frictional
+# runs cost 10-50x more, growing towards their lower jamming point: 193 s at ν = 0.78). ξ_el from the dilute run(s)
+# at CH5_REFERENCE_NU, e = CH5_REFERENCE_E. Fig 5.1: a CH5_WINDOW_STEPS-step branch
+# (--frame-every 1) from the end of the runs at CH5_CLUSTER_NU for each CH5_CLUSTER_E.
+CH5_NU            := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780 0.790 0.800 0.810 0.820
+CH5_E             := 0.00 0.25 0.50 0.75 0.92
+CH5_MU            := 0.00 0.40
+CH5_FRICTION_E    := 0.00
+CH5_FRICTION_NU   := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780
+CH5_RATE          := $(CH4_RATE)
+CH5_SEED          := $(CH4_SEED)
+CH5_FROM_STRAIN   := 0.5
+CH5_REFERENCE_NU  := 0.300
+CH5_REFERENCE_E   := 0.92
+CH5_CLUSTER_NU    := 0.790
+CH5_CLUSTER_E     := 0.92 0.00
+CH5_WINDOW_STEPS  := 2

@@ -104,3 +104,98 @@ def write_packing(path, packing_fraction=0.8, grains=16, seed=1):
         for name, value in (("packing_fraction", packing_fraction), ("max_overlap", 1e-10), ("wall_seconds", 0.1)):
             _element(obs, name, np.array([value]), [0], [0.0])
     return path
+
+
+def correlation_row(r, xi, amplitude=0.05, contact=1.4, oscillation=None, noise=0.0, rng=None):
+    """A C̄(ℓ) row: zero inside `contact`, amplitude·exp(−(ℓ−contact)/ξ) beyond, times
+    cos(2πℓ/oscillation) if given (sign changes), plus Gaussian noise of s.d. `noise`."""
+    rng = rng or np.random.default_rng(0)
+    c = np.where(r >= contact, amplitude * np.exp(-(r - contact) / xi), 0.0)
+    if oscillation:
+        c = c * np.cos(2 * np.pi * (r - contact) / oscillation)
+    return c + noise * rng.normal(size=len(r)), np.full(len(r), noise if noise > 0 else 1e-12)
+
+
+def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0, angle_bins=24, grains=1000,
+                          frames=200, reference=(), rng=None):
+    """A gf-correlate output with the datasets the chapter-5 scripts read. `rows` is a list of
+    dicts: input, packing_fraction, restitution, friction, C, C_error (over the radial bins of
+    bin_width up to max_lag), and optionally xi, xi_error (eq. 5.2), a0, theta0 (ξ(θ) made from
+    eq. 5.3), peak, peak_confidence, force_mode (where P(f) peaks; 0 = at f = 0)."""
+    rng = rng or np.random.default_rng(3)
+    nb = int(round(max_lag / bin_width))
+    r = (np.arange(nb) + 0.5) * bin_width
+    theta = (np.arange(angle_bins) + 0.5) * np.pi / angle_bins
+    f = (np.arange(200) + 0.5) * 0.05
+    n = len(rows)
+    col = lambda name, default=np.nan: np.array([row.get(name, default) for row in rows], dtype=float)  # noqa: E731
+    xi = col("xi", 1.5)
+    xi_theta = np.array([x / (2 * np.pi) * (1 - row.get("a0", 0.3) * np.sin(2 * (theta - row.get("theta0", 0.0))))
+                         for x, row in zip(xi, rows)])
+    xi_theta_error = 0.02 * np.abs(xi_theta).mean(axis=1, keepdims=True) * np.ones_like(xi_theta)
+    xi_theta = xi_theta + xi_theta_error * rng.normal(size=xi_theta.shape)
+
+    def pdf(mode):
+        p = f * np.exp(-f / mode) if mode > 0 else np.exp(-f)
+        return p / (p.sum() * 0.05)
+
+    P = np.array([pdf(row.get("force_mode", 1.0)) for row in rows])
+    with h5py.File(path, "w") as out:
+        out.create_group("parameters").attrs["program"] = "gf-correlate"
+        g = out.create_group("runs")
+        g["input"] = np.array([row["input"].encode() for row in rows])
+        for name in ("packing_fraction", "restitution", "friction"):
+            g[name] = col(name)
+        g["grains"] = np.full(n, grains, dtype=np.int64)
+        g["frames"] = np.full(n, frames, dtype=np.int64)
+        c = out.create_group("correlation")
+        c.attrs.update({"mean_diameter": sigma, "bin_width": bin_width, "max_lag": max_lag,
+                        "angle_bins": angle_bins, "from_strain": 0.5})
+        c["r"] = r
+        c["C"] = np.array([row["C"] for row in rows])
+        c["C_error"] = np.array([row["C_error"] for row in rows])
+        c["xi"], c["xi_error"] = xi, col("xi_error", 0.01)
+        c["theta"], c["xi_theta"], c["xi_theta_error"] = theta, xi_theta, xi_theta_error
+        for name in ("a0", "theta0"):
+            c[name] = col(name, 0.3 if name == "a0" else 0.0)
+            c[name + "_error"] = np.full(n, 0.02)
+        c["fit_chi2_dof"] = np.ones(n)
+        fo = out.create_group("forces")
+        fo["f"], fo["f_bc"] = f, f
+        fo["P"], fo["P_bc"] = P, np.array([pdf(1.0)] * n)
+        fo["P_error"], fo["P_bc_error"] = 0.02 * P, 0.02 * P
+        fo["peak"] = col("peak", 1).astype(np.int64)
+        fo["peak_confidence"] = col("peak_confidence", 1.0)
+        if reference:
+            out.create_group("reference")["input"] = np.array([p.encode() for p in reference])
+        keys = sorted({(row["restitution"], row["friction"]) for row in rows})
+        s = out.create_group("sweep")
+        s["restitution"] = np.array([k[0] for k in keys])
+        s["friction"] = np.array([k[1] for k in keys])
+        s["nu_bc"], s["nu_bc_error"] = np.full(len(keys), np.nan), np.full(len(keys), np.nan)
+        s["status"] = np.full(len(keys), 2, dtype=np.int64)
+    return path
+
+
+def write_clusters_table(path, run_paths, labels_per_run, side=10.0, rng=None):
+    """A gf-correlate output with /clusters for the given runs (positions uniform in the box)."""
+    rng = rng or np.random.default_rng(4)
+    labels = np.concatenate(labels_per_run).astype(np.int32)
+    offsets = np.concatenate(([0], np.cumsum([len(x) for x in labels_per_run])))
+    with h5py.File(path, "w") as out:
+        out.create_group("parameters")
+        g = out.create_group("runs")
+        g["input"] = np.array([p.encode() for p in run_paths])
+        g["packing_fraction"] = np.full(len(run_paths), 0.79)
+        g["restitution"] = np.linspace(0.92, 0.0, len(run_paths))
+        g["friction"] = np.zeros(len(run_paths))
+        g["grains"] = np.array([len(x) for x in labels_per_run], dtype=np.int64)
+        c = out.create_group("clusters")
+        c["label"] = labels
+        c["position"] = rng.uniform(0, side, (len(labels), 2))
+        c["grain_offset"] = offsets.astype(np.int64)
+        c["box"] = np.array([[side, side, 0.3 * side]] * len(run_paths))
+        c["count"] = np.array([x.max() for x in labels_per_run], dtype=np.int64)
+        c["first_step"] = np.zeros(len(run_paths), dtype=np.int64)
+        c["last_step"] = np.ones(len(run_paths), dtype=np.int64)
+    return path
