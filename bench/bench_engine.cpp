@@ -6,6 +6,7 @@
 //   build-*/bench/bench_engine --benchmark_filter='Shear/2000/'      time to solution, N = 2000
 //   build-*/bench/bench_engine --benchmark_filter=Tolerance          p, s, T at tolerance 1e-6 vs 1e-10
 //   build-*/bench/bench_engine --benchmark_filter=Threads            1 vs 2 threads at N = 10⁵
+//   build-*/bench/bench_engine --benchmark_filter=SweepsOnly         Gauss–Seidel without cluster solves
 //
 // Arguments of BM_Shear and BM_Threads: N, ν·1000, μ·100, γ̇dt·10⁴, warm-up steps (not
 // timed), timed steps, threads. Every case runs once (a run is deterministic; repetitions
@@ -47,7 +48,8 @@ const Packing& packing(std::int64_t grains, double nu) {
   return it->second;
 }
 
-Engine sheared(std::int64_t grains, double nu, double mu, double strain_step, double tolerance, int threads = 1) {
+Engine sheared(std::int64_t grains, double nu, double mu, double strain_step, double tolerance, int threads = 1,
+               bool cluster_solves = true) {
   const Packing& p = packing(grains, nu);
   GrainState state = make_grains(p.position, p.radius);
   const double rate = 1.0;
@@ -55,6 +57,7 @@ Engine sheared(std::int64_t grains, double nu, double mu, double strain_step, do
   SolverSettings settings;
   settings.tolerance = tolerance;
   settings.threads = threads;
+  settings.cluster_solves = cluster_solves;
   return Engine(std::move(state), p.box, rate, Material{0.5, 0.0, mu}, settings, strain_step / rate);
 }
 
@@ -70,12 +73,12 @@ double wall_seconds() {
 }
 
 // wall: time with the wall clock, else with the CPU time of the process.
-void run_shear(benchmark::State& state, bool wall) {
+void run_shear(benchmark::State& state, bool wall, bool cluster_solves = true) {
   const std::int64_t grains = state.range(0);
   const double nu = state.range(1) / 1000.0, mu = state.range(2) / 100.0, strain_step = state.range(3) * 1e-4;
   const std::int64_t warm = state.range(4), steps = state.range(5);
   const int threads = int(state.range(6));
-  Engine engine = sheared(grains, nu, mu, strain_step, 1e-10, threads);
+  Engine engine = sheared(grains, nu, mu, strain_step, 1e-10, threads, cluster_solves);
   for (std::int64_t k = 0; k < warm; ++k) engine.step();
   double sweeps = 0, clusters = 0, candidates = 0, contacts = 0, updates = 0, rebuilds = 0, unconverged = 0;
   double seconds = 0;
@@ -110,6 +113,9 @@ void run_shear(benchmark::State& state, bool wall) {
 void BM_Shear(benchmark::State& state) { run_shear(state, false); }
 
 void BM_Threads(benchmark::State& state) { run_shear(state, true); }
+
+// Gauss–Seidel alone (no exact cluster solves): the sweep kernel's own update rate.
+void BM_SweepsOnly(benchmark::State& state) { run_shear(state, false, false); }
 
 // Steady averages of p, s, T (in units of γ̇² with γ̇ = 1) at N = 1000, ν = 0.8, μ = 0 over
 // 2 strain units after 0.5 of transient, at the tolerance given in units of 10⁻¹².
@@ -160,6 +166,13 @@ BENCHMARK(BM_Shear)
     ->Args({2000, 800, 0, 10, 500, 1000, 1})
     ->Args({2000, 600, 0, 50, 100, 200, 1})
     ->Args({2000, 800, 0, 50, 100, 200, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+// Without the exact cluster solves, μ = 0, in steady state: more sweeps, slower per strain,
+// but the rate of the Gauss–Seidel kernel itself.
+BENCHMARK(BM_SweepsOnly)
+    ->Args({1000, 800, 0, 10, 500, 200, 1})
+    ->Args({10000, 800, 0, 10, 500, 50, 1})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 // Threads at N = 10⁵ (wall time): 1 and 2 from the same start.
