@@ -383,6 +383,9 @@ inline double correction(const Row& r, const Local& l) {
   return std::max(std::fabs(l.pn - r.pn), 3 * std::fabs(l.pt - r.pt)) / r.inv_w;
 }
 
+// See solve_cluster().
+constexpr double kClusterSolveGrowth = 10;
+
 }  // namespace
 
 // The rows the sweeps visit: contacts carrying a warm-start impulse and pairs whose normal
@@ -600,7 +603,7 @@ void Engine::solve_clusters() {
 }
 
 // The solve of cluster k (see solve_clusters()). Returns false, changing nothing, when its
-// factor would be too large to pay off.
+// factor would be too large to pay off or its result would not lower the residual.
 bool Engine::solve_cluster(int k, ClusterScratch& w) {
   auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   const int* members = cluster_rows_.data() + cluster_start_[k];
@@ -643,24 +646,53 @@ bool Engine::solve_cluster(int k, ClusterScratch& w) {
     order_loops(w, peeled);
     factored = factor(8);
   }
+  bool accepted = false;
   if (factored) {
     w.ldl.solve(w.rhs);
+    // The step is undone if it multiplies the cluster's largest local correction by more
+    // than kClusterSolveGrowth. When the active set is hyperstatic (jammed, ν near ν_c)
+    // its equations can be inconsistent and near-singular: the solve then returns huge
+    // self-stresses whose clamping at P_n = 0 would throw the velocities off by orders of
+    // magnitude. (A good step may raise the correction a little: the clamping.)
+    const double before = cluster_residual(w);
     for (int u = 0; u < m; ++u) {
       Row& r = rows_[w.order[u]];
       const double pn = std::max(0.0, r.pn + w.rhs[u]);
-      const double dpn = pn - r.pn;
+      w.rhs[u] = r.pn;  // kept for an undo
+      apply_normal_impulse(r, pn - r.pn);
       r.pn = pn;
-      // Fixed bodies (shared between clusters) are left alone: they would not move anyway.
-      for (const auto& [body, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
-        Body& b = bodies_[body];
-        if (b.inv_mass == 0) continue;
-        b.vx += sign * b.inv_mass * dpn * r.nx;
-        b.vy += sign * b.inv_mass * dpn * r.ny;
-      }
     }
+    accepted = cluster_residual(w) <= kClusterSolveGrowth * before;  // false for NaN too
+    if (!accepted)
+      for (int u = m - 1; u >= 0; --u) {
+        Row& r = rows_[w.order[u]];
+        apply_normal_impulse(r, w.rhs[u] - r.pn);
+        r.pn = w.rhs[u];
+      }
   }
   for (int c : w.order) unknown_[c] = -1;
-  return factored;
+  return accepted;
+}
+
+// Adds the normal impulse dpn of row r to its bodies' velocities. Fixed bodies (shared
+// between clusters) are left alone: they would not move anyway.
+void Engine::apply_normal_impulse(const Row& r, double dpn) {
+  for (const auto& [body, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
+    Body& b = bodies_[body];
+    if (b.inv_mass == 0) continue;
+    b.vx += sign * b.inv_mass * dpn * r.nx;
+    b.vy += sign * b.inv_mass * dpn * r.ny;
+  }
+}
+
+// Largest velocity correction a local solve would make on the cluster's rows (μ = 0).
+double Engine::cluster_residual(const ClusterScratch& w) const {
+  double worst = 0;
+  for (int c : w.order) {
+    const Row& r = rows_[c];
+    worst = std::max(worst, correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], 0.0)));
+  }
+  return worst;
 }
 
 // The cluster's matrix, upper triangle by columns in unknown order, and right-hand side:

@@ -173,6 +173,8 @@ class Engine {
   bool solve_cluster(int k, ClusterScratch& w);
   void assemble_cluster(ClusterScratch& w) const;
   void order_loops(ClusterScratch& w, int first);
+  double cluster_residual(const ClusterScratch& w) const;
+  void apply_normal_impulse(const Row& r, double dpn);
   void record_contacts();
   void store_bodies();
   void advance();
