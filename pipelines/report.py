@@ -178,11 +178,12 @@ def ch5_section(correlate_path, clusters_path):
              f"Table `{correlate_path}` (gf-correlate, one row per run): N = {int(runs['grains'][0])}, "
              f"{int(runs['frames'].min())}–{int(runs['frames'].max())} frames per run at strain ≥ "
              f"{float(cor['attrs']['from_strain']):g}, largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
-             f"(σ = {sigma:.4g} the mean diameter). ξ below is the pipeline's ξ_|C| (eq. 5.2 on |C̄|, radial "
-             f"bins merged to {res['bin_width'] / sigma:.2f}σ, soft-thresholded at {res['k']:g} jackknife "
-             "errors; `pipelines/analysis/correlation_table.py`); gf-correlate's own ξ (eq. 5.2 on the signed "
-             "C̄) is listed beside it: it is a harmonic mean of contact distances in dilute flows and loses "
-             "its meaning where C̄ changes sign (its denominator crosses zero).", "",
+             f"(σ = {sigma:.4g} the mean diameter). ξ below is gf-correlate's ξ_|C| (`/correlation/xi_abs`: "
+             f"eq. 5.2 on |C̄| in bins of {res['bin_width'] / sigma:.2f}σ, {res['threshold_kind']}-thresholded at "
+             f"{res['k']:g} jackknife errors, block-jackknife errors; `lib/correlation/decay_length.hpp`); "
+             "gf-correlate's eq.-5.2 ξ on the signed C̄ (`/correlation/xi`) is listed beside it: it is a harmonic "
+             "mean of contact distances in dilute flows and loses its meaning where C̄ changes sign (its "
+             "denominator crosses zero).", "",
              quote("For small values of packing fraction, Figure 5.3 shows the value of ξ approaching a limiting "
                    "value of 0.785σ.", "555"),
              f"Ours: ξ_el = {ct.fmt_pm(res['xi_el'] / sigma, res['xi_el_error'] / sigma)}σ from "
@@ -281,6 +282,22 @@ def ch5_section(correlate_path, clusters_path):
                   f"{ct.fmt_pm(fit['a0'], fit['a0_error'])}, θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} "
                   f"(χ²/dof = {fit['chi2_dof']:.2g}); per-run a0 from {np.nanmin(cor['a0'][ok]):.2f} to "
                   f"{np.nanmax(cor['a0'][ok]):.2f}."]
+    # The decay length per direction, ξ_|C|(θ), over every measurable frictionless run.
+    ok_abs = frictionless[res["measurable"][frictionless]] if "xi_abs_theta" in cor else []
+    if len(ok_abs):
+        th = cor["theta"]
+        mean = np.nanmean(cor["xi_abs_theta"][ok_abs], axis=1)
+        fit = ct.fit_anisotropy(np.tile(th, len(ok_abs)),
+                                np.concatenate([cor["xi_abs_theta"][r] / m for r, m in zip(ok_abs, mean)]),
+                                np.concatenate([cor["xi_abs_theta_error"][r] / m for r, m in zip(ok_abs, mean)]),
+                                float(np.pi / len(th)))
+        dense = ok_abs[res["ratio"][ok_abs] >= thr]
+        lines += ["", f"Ours, decay length per direction (gf-correlate's ξ_|C|(θ) over its mean, {len(ok_abs)} "
+                  f"measurable runs, pooled fit of eq. 5.3's shape): a0 = {ct.fmt_pm(fit['a0'], fit['a0_error'])}, "
+                  f"θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} (χ²/dof = {fit['chi2_dof']:.2g})"
+                  + (f"; per-run a0 over the {len(dense)} runs with ξ/ξ_el ≥ {thr:g}: "
+                     f"{np.nanmin(cor['a0_abs'][dense]):.2f} to {np.nanmax(cor['a0_abs'][dense]):.2f}"
+                     if len(dense) else "") + "."]
     # Clusters (Fig. 5.1).
     if clusters_path:
         cl_table = ct.read_table(clusters_path)

@@ -38,9 +38,11 @@ int main(int argc, char** argv) {
                     "bins and as a map of lag vectors, exact pair sums over Lees-Edwards minimum images up to\n"
                     "--max-lag), the correlation length xi of eq. 5.2, its angular dependence xi(theta) with the fit\n"
                     "of eq. 5.3 (a0, theta0), and the distributions P(f) of normal forces and of the binary-collision\n"
-                    "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0. With reference runs\n"
-                    "(dilute, binary collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e)\n"
-                    "where xi/xi_el crosses --threshold. Errors are jackknife (bootstrap for the peak) over --blocks\n"
+                    "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0; and xi_abs, the decay\n"
+                    "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the xi of the thesis' figures), per direction\n"
+                    "too, with a flag for correlations that reach the box. With reference runs (dilute, binary\n"
+                    "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
+                    "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak) over --blocks\n"
                     "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
                     "diameter sigma of the first run. Output: one HDF5 file, one row per run (see the README).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
@@ -50,6 +52,17 @@ int main(int argc, char** argv) {
     cli.option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)", "0");
     cli.option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
     cli.option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
+    cli.option("abs-bin-width", 0, "D",
+               "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4", "0");
+    cli.option("abs-noise", 0, "K", "xi_abs: reduce each coarse bin of |C| by K jackknife errors (floored at 0)", "2");
+    cli.option("abs-threshold", 0, "soft|hard",
+               "xi_abs noise floor: soft subtracts --abs-noise errors from every bin (biased low by a few %),\n"
+               "      hard drops the bins below it and keeps the others whole",
+               "soft");
+    cli.option("max-tail-share", 0, "S",
+               "xi_abs not measurable (correlations reach the box) when more than S of int l|C| lies beyond\n"
+               "      2/3 of --max-lag",
+               "0.05");
     cli.option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
     cli.option("reference", 0, "FILES",
                "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el,\n"
@@ -74,6 +87,16 @@ int main(int argc, char** argv) {
     require_in_range("bin-width", s.bin_width, 0, INFINITY, false, true);
     require_in_range("max-lag", s.max_lag, 0, INFINITY, false, true);
     require_in_range("map-bin", s.map_bin, 0, INFINITY, false, true);
+    s.abs_bin_width = cli.real("abs-bin-width");
+    require_in_range("abs-bin-width", s.abs_bin_width, 0, INFINITY, false, true);
+    s.magnitude.noise = cli.real("abs-noise");
+    require_in_range("abs-noise", s.magnitude.noise, 0, INFINITY, false, true);
+    const std::string threshold_kind = cli.text("abs-threshold");
+    if (threshold_kind != "soft" && threshold_kind != "hard")
+      throw UsageError("option --abs-threshold: must be soft or hard, not '" + threshold_kind + "'");
+    s.magnitude.hard = threshold_kind == "hard";
+    s.magnitude.max_tail_share = cli.real("max-tail-share");
+    require_in_range("max-tail-share", s.magnitude.max_tail_share, 0, 1, false, false);
     s.angle_bins = whole(cli, "angle-bins", 3);
     s.blocks = whole(cli, "blocks", 1);
     s.threshold = cli.real("threshold");
@@ -118,9 +141,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: xi/xi_el and nu_bc not computed\n");
     if (!s.quiet)
       for (std::size_t i = 0; i < report.runs.size(); ++i)
-        std::fprintf(stderr, "gf-correlate: %s: %zu frames, xi = %.4g +- %.2g (xi/xi_el = %.3g), P(f) %s (%.0f%%)\n",
+        std::fprintf(stderr,
+                     "gf-correlate: %s: %zu frames, xi = %.4g +- %.2g (xi/xi_el = %.3g), xi_abs = %.4g +- %.2g "
+                     "(xi_abs/xi_abs_el = %.3g%s), P(f) %s (%.0f%%)\n",
                      report.runs[i].path.c_str(), report.runs[i].frames.size(), report.results[i].xi,
-                     report.results[i].xi_error, report.xi_ratio[i],
+                     report.results[i].xi_error, report.xi_ratio[i], report.results[i].magnitude.xi,
+                     report.results[i].magnitude.xi_error, report.xi_abs_ratio[i],
+                     report.results[i].magnitude.measurable ? "" : ", reaches the box",
                      report.results[i].peak.peak == 1 ? "peaks at f > 0" : "is largest at f = 0",
                      100 * report.results[i].peak.confidence);
     return 0;

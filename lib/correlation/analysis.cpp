@@ -115,6 +115,16 @@ RunResult summarise(const RunSums& s, const LagGrid& grid, const Settings& setti
   r.xi_theta = angular_correlation_length(total, grid);
   r.xi_theta_error = jackknife_errors(s.blocks, [&](const PairSums& x) { return angular_correlation_length(x, grid); });
   r.fit = fit_anisotropy(sector_centres(grid), r.xi_theta, r.xi_theta_error, r.xi, grid.sector_width());
+  r.magnitude = magnitude_length(s.blocks, grid, settings.magnitude);
+  // Eq. 5.3's shape for the decay length per direction: ξ_|C|(θ) = ξ̄ (1 − a0 sin 2(θ − θ0)),
+  // ξ̄ the mean over the sectors (fit_anisotropy's ξ/(2π)).
+  double mean = 0;
+  int finite = 0;
+  for (double x : r.magnitude.xi_theta)
+    if (std::isfinite(x)) mean += x, ++finite;
+  if (finite > 0)
+    r.fit_abs = fit_anisotropy(sector_centres(grid), r.magnitude.xi_theta, r.magnitude.xi_theta_error,
+                               2 * M_PI * mean / finite, grid.sector_width());
   r.map = correlation_map(s.map, total.norm, grid);
   r.normal = force_distribution(s.normal, settings.force_bin_width, settings.force_max);
   r.binary = force_distribution(s.binary, settings.force_bin_width, settings.force_max);
@@ -203,9 +213,18 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
   if (max_lag > narrowest->half_side)
     throw UsageError("option --max-lag: " + number(max_lag) + " exceeds half the shorter box side (" +
                      number(narrowest->half_side) + ") of '" + narrowest->path + "'");
-  report.grid = LagGrid::make(settings.bin_width > 0 ? settings.bin_width : sigma / 20, max_lag, settings.angle_bins,
-                              settings.map_bin > 0 ? settings.map_bin : sigma / 5);
+  const double bin_width = settings.bin_width > 0 ? settings.bin_width : sigma / 20;
+  int coarse = std::max(1, int(std::lround(sigma / 4 / bin_width)));
+  if (settings.abs_bin_width > 0) {
+    coarse = int(std::lround(settings.abs_bin_width / bin_width));
+    if (coarse < 1 || std::fabs(settings.abs_bin_width - coarse * bin_width) > 1e-6 * settings.abs_bin_width)
+      throw UsageError("option --abs-bin-width: " + number(settings.abs_bin_width) +
+                       " is not a whole multiple of the radial bin width " + number(bin_width));
+  }
+  report.grid = LagGrid::make(bin_width, max_lag, settings.angle_bins,
+                              settings.map_bin > 0 ? settings.map_bin : sigma / 5, coarse);
   report.settings.bin_width = report.grid.bin_width;
+  report.settings.abs_bin_width = coarse * report.grid.bin_width;
   report.settings.max_lag = report.grid.max_lag();
   report.settings.map_bin = report.grid.map_bin;
 
@@ -237,6 +256,9 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     const RunSums sums = accumulate_run(report.references[i], correlator, settings.blocks, false, done);
     report.reference_xi.push_back(correlation_length(total_of(sums.blocks, report.grid)));
     report.reference_xi_error.push_back(xi_error_of(sums.blocks));
+    const MagnitudeLength m = magnitude_length(sums.blocks, report.grid, settings.magnitude);
+    report.reference_xi_abs.push_back(m.xi);
+    report.reference_xi_abs_error.push_back(m.xi_error);
     pooled.insert(pooled.end(), sums.blocks.begin(), sums.blocks.end());
   }
   bar.finish();
@@ -248,8 +270,12 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     // All reference frames form one ensemble: ξ of the pooled sums, jackknife over all blocks.
     report.xi_el = correlation_length(total_of(pooled, report.grid));
     report.xi_el_error = xi_error_of(pooled);
+    // ξ_|C| likewise: the pooled blocks, with noise floors from their pooled jackknife.
+    const MagnitudeLength m = magnitude_length(pooled, report.grid, settings.magnitude);
+    report.xi_abs_el = m.xi;
+    report.xi_abs_el_error = m.xi_error;
   }
-  std::vector<SweepPoint> points;
+  std::vector<SweepPoint> points, abs_points;
   for (std::size_t i = 0; i < report.runs.size(); ++i) {
     const Run& run = report.runs[i];
     const RunResult& r = report.results[i];
@@ -258,9 +284,20 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     report.xi_ratio_error.push_back(std::fabs(ratio) *
                                     std::hypot(r.xi_error / r.xi, report.xi_el_error / report.xi_el));
     points.push_back({run.packing_fraction, run.restitution, run.friction, r.xi, r.xi_error});
+    const MagnitudeLength& m = r.magnitude;
+    const double abs_ratio = m.xi / report.xi_abs_el;
+    report.xi_abs_ratio.push_back(abs_ratio);
+    report.xi_abs_ratio_error.push_back(std::fabs(abs_ratio) *
+                                        std::hypot(m.xi_error / m.xi, report.xi_abs_el_error / report.xi_abs_el));
+    // Runs whose correlations reach the box stay out of ν_bc (their ξ_|C| measures the cell).
+    abs_points.push_back({run.packing_fraction, run.restitution, run.friction, m.measurable ? m.xi : kNaN,
+                          m.xi_error});
   }
   if (std::isfinite(report.xi_el))
     report.crossings = binary_collision_crossings(points, report.xi_el, report.xi_el_error, settings.threshold);
+  if (std::isfinite(report.xi_abs_el))
+    report.crossings_abs =
+        binary_collision_crossings(abs_points, report.xi_abs_el, report.xi_abs_el_error, settings.threshold);
 
   if (settings.clusters_window > 0)
     for (const Run& run : report.runs)

@@ -2,8 +2,10 @@
 // gf-correlate's analysis of shear trajectories (thesis ch. 5): for every run, averages
 // over the stored frames past the transient of the force correlation C(ℓ) (isotropic
 // and the vector map), ξ and ξ(θ) with the fit of eq. 5.3, and the distributions of
-// normal and binary-collision forces; across runs, ξ/ξ_el and ν_bc(e); optionally the
-// contact clusters of a window of frames (Fig. 5.1).
+// normal and binary-collision forces; the decay length ξ_|C| of |C̄| with its per-direction
+// ξ_|C|(θ) and the box-spanning flag (decay_length.hpp); across runs, ξ/ξ_el and ν_bc(e),
+// both for eq. 5.2's signed ξ and for ξ_|C|; optionally the contact clusters of a window of
+// frames (Fig. 5.1).
 //
 // Frames of a run past --from-strain are split into B consecutive blocks of (nearly)
 // equal length; every error is a jackknife over these blocks (a bootstrap for the peak
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "correlation/anisotropy_fit.hpp"
+#include "correlation/decay_length.hpp"
 #include "correlation/force_correlation.hpp"
 #include "correlation/force_distribution.hpp"
 #include "correlation/sweep.hpp"
@@ -28,7 +31,9 @@ struct Settings {
   double bin_width = 0;  // 0: σ/20, σ the mean grain diameter of the first run
   double max_lag = 0;    // 0: min(15σ, half the shortest box side of all runs)
   int angle_bins = 24;
-  double map_bin = 0;  // 0: σ/5
+  double map_bin = 0;        // 0: σ/5
+  double abs_bin_width = 0;  // coarse bins of ξ_|C|; 0: the multiple of bin_width nearest to σ/4
+  MagnitudeSettings magnitude;
   int blocks = 20;
   double threshold = 1.25;
   std::optional<double> xi_el;  // given instead of reference runs
@@ -64,6 +69,8 @@ struct RunResult {
   double xi = 0, xi_error = 0;
   std::vector<double> xi_theta, xi_theta_error;
   AnisotropyFit fit;
+  MagnitudeLength magnitude;  // ξ_|C|, its tail share and flag, ξ_|C|(θ)
+  AnisotropyFit fit_abs;      // eq. 5.3's shape fitted to ξ_|C|(θ) (see analysis.cpp)
   std::vector<double> map;                    // C on the lag map
   Distribution normal, binary;
   PeakDecision peak;
@@ -91,6 +98,12 @@ struct Report {
   double xi_el = AnisotropyFit::kNaN, xi_el_error = AnisotropyFit::kNaN;
   std::vector<double> xi_ratio, xi_ratio_error;  // per run
   std::vector<Crossing> crossings;
+  // The same for ξ_|C|: ξ_el from the pooled reference blocks; crossings over the measurable
+  // runs only, one entry per (e, μ) of `crossings`, in the same order.
+  std::vector<double> reference_xi_abs, reference_xi_abs_error;
+  double xi_abs_el = AnisotropyFit::kNaN, xi_abs_el_error = AnisotropyFit::kNaN;
+  std::vector<double> xi_abs_ratio, xi_abs_ratio_error;
+  std::vector<Crossing> crossings_abs;
   std::vector<Clusters> clusters;  // per run when settings.clusters_window > 0
 };
 

@@ -206,13 +206,15 @@ class SectorIndex {
   std::vector<std::int16_t> by_bin_;
 };
 
-LagGrid LagGrid::make(double bin_width, double max_lag, int angle_bins, double map_bin) {
+LagGrid LagGrid::make(double bin_width, double max_lag, int angle_bins, double map_bin, int coarse) {
   if (!(bin_width > 0)) throw UsageError("option --bin-width: must be > 0");
   if (!(max_lag >= bin_width)) throw UsageError("option --max-lag: must be at least one --bin-width");
   // ≥ 3: eq. 5.3 has two parameters; ≤ 3600: the sector table grows as K².
   if (angle_bins < 3 || angle_bins > 3600) throw UsageError("option --angle-bins: must be in [3, 3600]");
   if (!(map_bin > 0)) throw UsageError("option --map-bin: must be > 0");
+  if (coarse < 1) throw UsageError("option --abs-bin-width: must be a positive multiple of --bin-width");
   LagGrid g;
+  g.coarse = coarse;
   g.bin_width = bin_width;
   g.radial_bins = int(std::floor(max_lag / bin_width + 1e-9));
   g.angle_bins = angle_bins;
@@ -260,7 +262,9 @@ LoadedGrains loaded_grains(const io::Frame& frame) {
 }
 
 PairSums::PairSums(const LagGrid& grid)
-    : w(grid.radial_bins, 0.0), w_over_lag(grid.radial_bins, 0.0), sector(grid.angle_bins, 0.0) {}
+    : w(grid.radial_bins, 0.0), w_over_lag(grid.radial_bins, 0.0), sector(grid.angle_bins, 0.0),
+      sector_w(std::size_t(grid.angle_bins) * std::size_t(grid.coarse_bins()), 0.0),
+      sector_w_over_lag(sector_w.size(), 0.0) {}
 
 PairSums& PairSums::operator+=(const PairSums& other) {
   norm += other.norm;
@@ -269,6 +273,10 @@ PairSums& PairSums::operator+=(const PairSums& other) {
     w_over_lag[b] += other.w_over_lag[b];
   }
   for (std::size_t k = 0; k < sector.size(); ++k) sector[k] += other.sector[k];
+  for (std::size_t k = 0; k < sector_w.size(); ++k) {
+    sector_w[k] += other.sector_w[k];
+    sector_w_over_lag[k] += other.sector_w_over_lag[k];
+  }
   return *this;
 }
 
@@ -287,6 +295,11 @@ void Correlator::accumulate(const LoadedGrains& grains, PairSums& sums, std::vec
   for (int i : pairs.order()) force.push_back(grains.force[i]);
   const double inv_bin = 1 / grid.bin_width, inv_h = 1 / grid.map_bin, half = grid.map_half;
   const int last_bin = grid.radial_bins - 1, side = grid.map_side();
+  // Row offset of each radial bin's coarse bin in the [sector][coarse bin] sums (a table:
+  // an integer division per pair would cost more than the two additions it feeds).
+  std::vector<int> coarse_of(std::size_t(grid.radial_bins));
+  for (int b = 0; b < grid.radial_bins; ++b) coarse_of[std::size_t(b)] = b / grid.coarse;
+  const std::size_t coarse_bins = std::size_t(grid.coarse_bins());
   const bool with_map = !map.empty();
   pairs.for_each([&](int p, int q, double dx, double dy) {
     const double lag2 = dx * dx + dy * dy;
@@ -298,7 +311,11 @@ void Correlator::accumulate(const LoadedGrains& grains, PairSums& sums, std::vec
     sums.w_over_lag[b] += w * inv_lag;
     // |x| < ℓ_max ≤ map_half·h, so x/h + map_half > 0 and truncation is the floor.
     const int bin = std::min(int(dy * inv_h + half), side - 1) * side + std::min(int(dx * inv_h + half), side - 1);
-    sums.sector[sectors.of(bin, dx, dy, inv_lag)] += w;
+    const int k = sectors.of(bin, dx, dy, inv_lag);
+    sums.sector[k] += w;
+    const std::size_t kc = std::size_t(k) * coarse_bins + std::size_t(coarse_of[std::size_t(b)]);
+    sums.sector_w[kc] += w;
+    sums.sector_w_over_lag[kc] += w * inv_lag;
     if (with_map) map[bin] += w;
   });
 }

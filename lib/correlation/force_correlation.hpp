@@ -30,6 +30,9 @@
 //   C̄ in radial bin b: Σ_{pairs in b} w / (W · π(ℓ_{b+1}² − ℓ_b²)).
 //   The map: ½Σ w at ±r_ij on a square grid of lag vectors (lab frame, bins of side h
 // whose edges are the multiples of h, so the lag axes are bin edges), divided by W h².
+//   Per sector and coarse radial bin (`coarse` radial bins merged), Σw and Σw/ℓ again: the
+// radial profile of C(ℓ, θ) from which decay_length.hpp takes ξ_|C|(θ).
+#include <algorithm>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -47,10 +50,14 @@ struct LagGrid {
   int angle_bins = 0;    // sectors of [0, π)
   double map_bin = 0;    // side h of the map's square bins
   int map_half = 0;      // the map spans [−map_half·h, map_half·h]² (2·map_half bins per axis)
+  int coarse = 1;        // radial bins per coarse bin (ξ_|C|); the last coarse bin may be partial
 
-  // UsageError naming the option when a value is out of range.
-  static LagGrid make(double bin_width, double max_lag, int angle_bins, double map_bin);
+  // UsageError naming the option when a value is out of range (coarse < 1: --abs-bin-width).
+  static LagGrid make(double bin_width, double max_lag, int angle_bins, double map_bin, int coarse = 1);
   double max_lag() const { return radial_bins * bin_width; }
+  int coarse_bins() const { return (radial_bins + coarse - 1) / coarse; }
+  double coarse_lower(int c) const { return c * coarse * bin_width; }
+  double coarse_upper(int c) const { return std::min(radial_bins, (c + 1) * coarse) * bin_width; }
   double sector_width() const;
   int map_side() const { return 2 * map_half; }
 };
@@ -71,6 +78,8 @@ struct PairSums {
   std::vector<double> w;           // [radial_bins]   Σ_{i>j} F^i·F^j
   std::vector<double> w_over_lag;  // [radial_bins]   Σ_{i>j} F^i·F^j / ℓ_ij
   std::vector<double> sector;      // [angle_bins]    Σ_{i>j} F^i·F^j by angle of r_ij mod π
+  std::vector<double> sector_w;           // [angle_bins][coarse_bins]  Σ F^i·F^j by sector and coarse bin
+  std::vector<double> sector_w_over_lag;  // [angle_bins][coarse_bins]  Σ F^i·F^j / ℓ_ij likewise
 
   explicit PairSums(const LagGrid& grid = {});
   PairSums& operator+=(const PairSums& other);

@@ -89,6 +89,19 @@ void write_report(const std::string& path, const Report& report, const io::Param
   attrs.set("angle_bins", grid.angle_bins);
   attrs.set("map_bin", grid.map_bin);
   attrs.set("from_strain", report.settings.from_strain);
+  attrs.set("abs_bin_width", report.settings.abs_bin_width);
+  attrs.set("abs_noise", report.settings.magnitude.noise);
+  attrs.set("abs_threshold", report.settings.magnitude.hard ? "hard" : "soft");
+  attrs.set("abs_tail_from", report.settings.magnitude.tail_from);
+  attrs.set("abs_max_tail_share", report.settings.magnitude.max_tail_share);
+  attrs.set("xi_abs_definition",
+            "coarse bins c = [l_c-, l_c+) of abs_bin_width (the last may be partial); I_c = int_c C dl = "
+            "sum_c (w/l) / (2 pi W), J_c = int_c l C dl = sum_c w / (2 pi W) (for a sector: C(l, theta) averaged over "
+            "the sector, 2 dtheta W instead of 2 pi W); a_c = max(|I_c| - abs_noise * dI_c, 0) (abs_threshold "
+            "soft; hard: a_c = |I_c| if |I_c| > abs_noise * dI_c, else 0) with dI_c the block-jackknife error of I_c "
+            "(0 with one block); l_c = J_c / I_c clamped to [l_c-, l_c+]; xi_abs = "
+            "sum l_c a_c / sum a_c; xi_abs_tail = share of sum l_c a_c from bins centred beyond abs_tail_from * "
+            "max_lag; errors: jackknife over the blocks with the noise floors abs_noise * dI_c fixed");
   attrs.set("definition",
             "C(l) = (1/W) sum_{i>j} F^i.F^j (1/2)[delta(l - r_ij) + delta(l + r_ij)], W = sum_i F^i.F^i, over "
             "grains with a contact, r_ij the Lees-Edwards minimum image, |r_ij| < max_lag; frames averaged as "
@@ -105,8 +118,9 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "xi of eq. 5.2 with both integrals truncated at the bin's upper edge (convergence with max_lag)", "length",
           per_run);
   w.write("/correlation/xi", {n}, column(n, [&](std::size_t i) { return res[i].xi; }),
-          "correlation length xi, eq. 5.2: sum w / sum (w/l) over pairs with l < max_lag (exact integrals of the "
-          "sampled C)",
+          "correlation length xi, eq. 5.2 taken literally on the signed C: sum w / sum (w/l) over pairs with l < "
+          "max_lag (exact integrals of the sampled C); ill-conditioned in dense flows, where int C dl crosses zero "
+          "(see xi_abs)",
           "length", per_run);
   w.write("/correlation/xi_error", {n}, column(n, [&](std::size_t i) { return res[i].xi_error; }),
           "jackknife standard error of xi", "length", per_run);
@@ -119,6 +133,60 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_ratio", {n}, report.xi_ratio, "xi / xi_el", "1", per_run);
   w.write("/correlation/xi_ratio_error", {n}, report.xi_ratio_error,
           "standard error of xi / xi_el (errors of xi and xi_el combined in quadrature)", "1", per_run);
+  // ξ_|C| (decay_length.hpp).
+  auto magnitude = [&](const char* name, auto value, const char* meaning, const char* units) {
+    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].magnitude.*value; }),
+            meaning, units, per_run);
+  };
+  magnitude("xi_abs", &MagnitudeLength::xi,
+            "decay length of |C(l)| (the xi of Figs 5.2-5.10): sum_c l_c a_c / sum_c a_c over coarse bins c of "
+            "abs_bin_width, a_c = max(|I_c| - abs_noise * dI_c, 0), I_c = int_c C dl exactly from the pair sums, "
+            "dI_c its jackknife error, l_c = int_c l C dl / I_c clamped to the bin (see the group's "
+            "xi_abs_definition)",
+            "length");
+  magnitude("xi_abs_error", &MagnitudeLength::xi_error,
+            "block-jackknife standard error of xi_abs (noise floors fixed at their full-sample values)", "length");
+  magnitude("xi_abs_tail", &MagnitudeLength::tail_share,
+            "share of sum_c l_c a_c (int l|C|) from coarse bins centred beyond abs_tail_from * max_lag", "1");
+  magnitude("xi_abs_tail_error", &MagnitudeLength::tail_share_error, "jackknife standard error of xi_abs_tail",
+            "1");
+  w.write("/correlation/measurable", {n}, int_column(n, [&](std::size_t i) { return res[i].magnitude.measurable; }),
+          "1: xi_abs finite and xi_abs_tail <= abs_max_tail_share; 0: correlations reach the box (xi_abs measures "
+          "the cell, the thesis' 'too large to be measured') or no signal; left out of nu_bc_abs",
+          "1", per_run);
+  std::vector<double> abs_theta, abs_theta_error;
+  for (const auto& r : res) {
+    abs_theta.insert(abs_theta.end(), r.magnitude.xi_theta.begin(), r.magnitude.xi_theta.end());
+    abs_theta_error.insert(abs_theta_error.end(), r.magnitude.xi_theta_error.begin(),
+                           r.magnitude.xi_theta_error.end());
+  }
+  w.write("/correlation/xi_abs_theta", {n, nk}, abs_theta,
+          "xi_abs of the radial profile of C(l, theta) averaged over the sector (angle of the lag modulo pi): a "
+          "decay length per direction, not per radian",
+          "length", per_run);
+  w.write("/correlation/xi_abs_theta_error", {n, nk}, abs_theta_error, "jackknife standard error of xi_abs_theta",
+          "length", per_run);
+  auto fit_abs = [&](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
+    w.write(std::string("/correlation/") + name, {n},
+            column(n, [&](std::size_t i) { return res[i].fit_abs.*member; }), meaning, units, per_run);
+  };
+  fit_abs("a0_abs", &AnisotropyFit::a0,
+          "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean over the "
+          "sectors",
+          "1");
+  fit_abs("a0_abs_error", &AnisotropyFit::a0_error, "standard error of a0_abs", "1");
+  fit_abs("theta0_abs", &AnisotropyFit::theta0, "theta0 of that fit, in [-pi/2, pi/2)", "radian");
+  fit_abs("theta0_abs_error", &AnisotropyFit::theta0_error, "standard error of theta0_abs", "radian");
+  fit_abs("fit_abs_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of that fit", "1");
+  w.write("/correlation/xi_abs_el", {}, std::vector<double>{report.xi_abs_el},
+          "elastic (dilute) reference length for xi_abs: xi_abs of all reference frames pooled (NaN without "
+          "--reference)",
+          "length");
+  w.write("/correlation/xi_abs_el_error", {}, std::vector<double>{report.xi_abs_el_error},
+          "jackknife standard error of xi_abs_el (over all reference blocks)", "length");
+  w.write("/correlation/xi_abs_ratio", {n}, report.xi_abs_ratio, "xi_abs / xi_abs_el", "1", per_run);
+  w.write("/correlation/xi_abs_ratio_error", {n}, report.xi_abs_ratio_error,
+          "standard error of xi_abs / xi_abs_el (errors combined in quadrature)", "1", per_run);
   w.write("/correlation/theta", {nk}, sector_centres(grid),
           "centre of the angular sector of the lag (angle to the x axis, modulo pi)", "radian");
   w.write("/correlation/xi_theta", {n, nk}, rows(res, &RunResult::xi_theta),
@@ -204,6 +272,10 @@ void write_report(const std::string& path, const Report& report, const io::Param
     write_runs(w, "/reference", report.references);
     w.write("/reference/xi", {m}, report.reference_xi, "xi (eq. 5.2) of the reference run", "length");
     w.write("/reference/xi_error", {m}, report.reference_xi_error, "jackknife standard error of xi", "length");
+    w.write("/reference/xi_abs", {m}, report.reference_xi_abs, "xi_abs (decay length of |C|) of the reference run",
+            "length");
+    w.write("/reference/xi_abs_error", {m}, report.reference_xi_abs_error, "jackknife standard error of xi_abs",
+            "length");
   }
 
   // ---- /sweep
@@ -234,6 +306,33 @@ void write_report(const std::string& path, const Report& report, const io::Param
             "0 crossing interpolated; 1 every run above the threshold (nu_bc below the lowest nu); 2 every run "
             "below (nu_bc above the highest nu); 3 fewer than two distinct nu; 4 only downward crossings",
             "1");
+    if (!report.crossings_abs.empty()) {
+      const auto& a = report.crossings_abs;
+      auto abs_series = [&](const char* name, auto value, const char* meaning, const char* units) {
+        w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
+      };
+      abs_series("nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
+                 "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)",
+                 "1");
+      abs_series("nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
+                 "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
+      abs_series("nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing",
+                 "1");
+      abs_series("nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing",
+                 "1");
+      w.write("/sweep/runs_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].runs; }),
+              "measurable runs in the series", "1");
+      w.write("/sweep/sign_changes_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].sign_changes; }),
+              "sign changes of xi_abs/xi_abs_el - threshold along nu", "1");
+      w.write("/sweep/status_abs", {g}, int_column(g, [&](std::size_t k) { return int(a[k].status); }),
+              "as status, for xi_abs over the measurable runs", "1");
+      w.write("/sweep/regime_abs", {n}, int_column(n, [&](std::size_t i) {
+                const double q = report.xi_abs_ratio[i];
+                if (!res[i].magnitude.measurable) return -2;
+                return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
+              }),
+              "as regime, by xi_abs/xi_abs_el; -2 correlations reach the box (not measurable)", "1", per_run);
+    }
     w.write("/sweep/regime", {n}, int_column(n, [&](std::size_t i) {
               const double q = report.xi_ratio[i];
               return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;

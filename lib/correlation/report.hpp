@@ -10,16 +10,23 @@
 //   /correlation/       attrs: mean_diameter, bin_width, max_lag, angle_bins, map_bin,
 //                       from_strain and the estimator's definition
 //     r [B], C, C_error, xi_truncated [R][B]; xi, xi_error [R]; xi_el, xi_el_error [];
-//     xi_ratio, xi_ratio_error [R]; theta [K], xi_theta, xi_theta_error [R][K];
+//     xi_ratio, xi_ratio_error [R]; (decay length of |C|, decay_length.hpp:) xi_abs,
+//     xi_abs_error, xi_abs_tail, xi_abs_tail_error, measurable [R]; xi_abs_theta,
+//     xi_abs_theta_error [R][K]; a0_abs, a0_abs_error, theta0_abs, theta0_abs_error,
+//     fit_abs_chi2_dof [R]; xi_abs_el, xi_abs_el_error []; xi_abs_ratio, xi_abs_ratio_error [R];
+//     theta [K], xi_theta, xi_theta_error [R][K];
 //     a0, a0_error, theta0, theta0_error, fit_chi2_dof [R], fit_weighted [R];
 //     map [R][M][M] (row = y lag), map_x, map_y [M]
 //   /forces/            f, f_bc [F]; P, P_error, P_bc, P_bc_error [R][F];
 //     mean_force, mean_force_error, mean_binary_force, mean_binary_force_error [R];
 //     peak, peak_confidence, mode, p0_over_pmax [R]
 //   /reference/         (with --reference) input, packing_fraction, restitution, friction,
-//                       xi, xi_error, one row per reference run
+//                       xi, xi_error, xi_abs, xi_abs_error, one row per reference run
 //   /sweep/             (when ξ_el is known) restitution, friction, nu_bc, nu_bc_error,
-//                       nu_below, nu_above, runs, sign_changes, status [G]; regime [R]
+//                       nu_below, nu_above, runs, sign_changes, status [G]; regime [R];
+//                       the same for xi_abs over the measurable runs: nu_bc_abs, nu_bc_abs_error,
+//                       nu_below_abs, nu_above_abs, runs_abs, sign_changes_abs, status_abs [G];
+//                       regime_abs [R] (-2: not measurable)
 //   /clusters/          (with --clusters-window) label [ΣN], position [ΣN][2],
 //                       grain_offset [R+1], first_frame, last_frame, first_step, last_step,
 //                       count [R], box [R][3] (Lx, Ly, Lees–Edwards offset)

@@ -11,8 +11,12 @@ std::vector<Crossing> binary_collision_crossings(const std::vector<SweepPoint>& 
                                                  double xi_el_error, double threshold) {
   // (e, μ) → ν → the runs' (ξ, σ) at that ν.
   std::map<std::pair<double, double>, std::map<double, std::vector<std::pair<double, double>>>> series;
-  for (const auto& p : points)
-    if (std::isfinite(p.xi)) series[{p.restitution, p.friction}][p.packing_fraction].push_back({p.xi, p.xi_error});
+  // Every (e, μ) of the points has an entry, even with no finite ξ (then too_few), so that
+  // crossings of different ξ estimates over the same runs line up.
+  for (const auto& p : points) {
+    auto& by_nu = series[{p.restitution, p.friction}];
+    if (std::isfinite(p.xi)) by_nu[p.packing_fraction].push_back({p.xi, p.xi_error});
+  }
 
   std::vector<Crossing> out;
   const double target = threshold * xi_el;

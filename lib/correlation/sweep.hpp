@@ -36,7 +36,8 @@ struct Crossing {
   CrossingStatus status = CrossingStatus::too_few;
 };
 
-// One entry per distinct (e, μ), in increasing e, then μ.
+// One entry per distinct (e, μ) of the points, in increasing e, then μ; points with a
+// non-finite ξ are left out of their series (which is too_few if none is left).
 std::vector<Crossing> binary_collision_crossings(const std::vector<SweepPoint>& points, double xi_el,
                                                  double xi_el_error, double threshold);
 

@@ -1,29 +1,17 @@
 """correlation_table.py: read gf-correlate's output (one row per run, see lib/correlation/
-report.hpp) for the chapter-5 figures and report, and the few sweep-level steps done here.
+report.hpp) for the chapter-5 figures and report.
 
-The pipeline-level estimator. gf-correlate's ξ is eq. 5.2 on the signed C̄(ℓ):
-Σw / Σ(w/ℓ) over all pairs within ℓ_max. In dilute flows every w = F^i·F^j < 0 (binary
-collisions) and this is a harmonic mean of contact distances; in dense flows C̄ changes
-sign (positive near contact, a long negative tail: inside every cluster Σ_i F^i = 0, so
-the pair sum over a cluster is −W/2), the denominator crosses zero and ξ diverges or
-turns negative at finite ℓ_max (quick runs: ν = 0.8, e = 0 gives ξ = 194 ± 2400). The
-thesis reads ξ as the decay length of |C(ℓ)| ("C(ℓ) ∼ exp(−ℓ/ξ)", lines e^{−ℓ/ξ} through
-log|C| in Fig. 5.2); for |C̄| = A e^{−ℓ/ξ}, ∫ℓ|C̄|dℓ / ∫|C̄|dℓ = ξ exactly. So the figures use
-
-    ξ_|C| = Σ_b ℓ_b a_b / Σ_b a_b,   a_b = max(|C̄_b| − k·δC̄_b, 0)
-
-on radial bins merged `factor` at a time (C̄ area-weighted, errors in quadrature), where
-δC̄_b is gf-correlate's jackknife error: soft thresholding at k standard errors removes the
-noise floor that |C̄| would otherwise integrate (ℓ-weighted, it would dominate). Its error
-is propagated to first order treating bins as independent (∂ξ/∂a_b = (ℓ_b − ξ)/Σa).
-In the dilute limit (all w < 0) it reduces to the force-weighted mean contact distance.
-Where the network spans the cell, C̄ keeps a plateau up to ℓ_max and ξ_|C| measures the box:
-runs with more than 5 % of ∫ℓa dℓ beyond 2ℓ_max/3 (tail_share) are flagged not measurable
-(the thesis' "ξ is too large to be measured") and left out of ν_bc.
-ξ_el is the mean ξ_|C| of the reference runs (gf-correlate's --reference, which must also be
-rows of the table); ν_bc(e, μ) is found on ξ_|C|/ξ_el exactly as gf-correlate does on its
-ξ (lib/correlation/sweep.hpp): first upward crossing of the threshold in ν, linear
-interpolation, first-order error.
+The correlation length of the figures is gf-correlate's ξ_|C| (/correlation/xi_abs): the
+decay length of |C̄(ℓ)|, eq. 5.2 on |C̄| with a noise floor, exact bin integrals and
+block-jackknife errors, per run and per direction, with the box-spanning flag
+(/correlation/measurable), ξ_el (/correlation/xi_abs_el, the pooled --reference runs),
+ξ_|C|/ξ_el and ν_bc(e, μ) over the measurable runs (/sweep/*_abs); its definition is in
+lib/correlation/decay_length.hpp and the table's /correlation attributes. gf-correlate's
+eq.-5.2 ξ on the signed C̄ (/correlation/xi, /sweep/nu_bc) is kept beside it: a harmonic
+mean of contact distances in dilute flows, ill-conditioned where C̄ changes sign. Nothing
+is recomputed here: analyse() gathers the program's values under the names the figure
+scripts use. What remains computed here is sweep-level presentation: the pooled eq.-5.3
+fit of Fig. 5.6 over many runs, and the P(f) rule check.
 """
 import math
 
@@ -88,41 +76,6 @@ def rebin(r, c, error, factor):
     return (r.mean(axis=1), (c * r).sum(axis=1) / total, np.sqrt(((error * r) ** 2).sum(axis=1)) / total)
 
 
-def xi_magnitude(r, c, error, k=2.0, factor=5):
-    """ξ_|C| (module docstring) and its first-order error, from one row of C̄ and δC̄."""
-    r, c, error = rebin(r, c, error, factor)
-    ok = np.isfinite(c) & np.isfinite(error)
-    r, c, error = r[ok], c[ok], error[ok]
-    a = np.maximum(np.abs(c) - k * error, 0.0)
-    total = a.sum()
-    if not total > 0:
-        return NAN, NAN
-    xi = float((r * a).sum() / total)
-    used = a > 0
-    err = float(np.sqrt((((r[used] - xi) / total) ** 2 * error[used] ** 2).sum()))
-    return xi, err
-
-
-def magnitude_lengths(table, k=2.0, factor=5):
-    """ξ_|C| and its error for every row of the table."""
-    cor = table["correlation"]
-    rows = [xi_magnitude(cor["r"], cor["C"][i], cor["C_error"][i], k, factor) for i in range(len(cor["C"]))]
-    return np.array([x for x, _ in rows]), np.array([e for _, e in rows])
-
-
-def tail_share(r, c, error, k=2.0, factor=5, outer=2 / 3):
-    """Share of ∫ℓ a dℓ (the numerator of ξ_|C|) coming from ℓ > outer·ℓ_max. Where the force
-    network spans the box, C̄ keeps a plateau up to ℓ_max (the sum rule spreads −W/2 over the
-    whole cell) and ξ_|C| measures the box, not the network: the thesis' "ξ is too large to be
-    measured". NaN without signal."""
-    r, c, error = rebin(r, c, error, factor)
-    ok = np.isfinite(c) & np.isfinite(error)
-    r, c, error = r[ok], c[ok], error[ok]
-    a = r * np.maximum(np.abs(c) - k * error, 0.0)
-    total = a.sum()
-    return float(a[r > outer * (r[-1] + 0.5 * (r[1] - r[0]))].sum() / total) if total > 0 else NAN
-
-
 def reference_rows(table):
     """Rows of the table that are gf-correlate's --reference runs (matched by path)."""
     if "reference" not in table:
@@ -131,50 +84,7 @@ def reference_rows(table):
     return np.array([inputs.index(p) for p in table["reference"]["input"] if p in inputs], dtype=int)
 
 
-def xi_el_of(xi, xi_error, rows):
-    """Mean of the reference rows' ξ and its error (√Σσ²/n)."""
-    if len(rows) == 0:
-        return NAN, NAN
-    return float(np.mean(xi[rows])), float(np.sqrt(np.sum(xi_error[rows] ** 2)) / len(rows))
-
-
-def ratio_with_error(xi, xi_error, xi_el, xi_el_error):
-    ratio = xi / xi_el
-    return ratio, np.abs(ratio) * np.hypot(xi_error / xi, xi_el_error / xi_el)
-
-
-def crossing(nu, xi, xi_error, xi_el, xi_el_error, threshold=1.25):
-    """ν where ξ/ξ_el first crosses `threshold` upward in ν (lib/correlation/sweep.hpp's rule).
-    Returns dict(nu_bc, nu_bc_error, status, nu_below, nu_above) with status 'bracketed',
-    'all_above', 'all_below', 'too_few' or 'only_downward'."""
-    nu, xi, xi_error = (np.asarray(a, dtype=float) for a in (nu, xi, xi_error))
-    ok = np.isfinite(xi)
-    nu, xi, xi_error = nu[ok], xi[ok], xi_error[ok]
-    out = {"nu_bc": NAN, "nu_bc_error": NAN, "nu_below": NAN, "nu_above": NAN}
-    # Runs at the same ν are merged: mean ξ, error √Σσ²/n.
-    levels = np.unique(nu)
-    xs = np.array([xi[nu == v].mean() for v in levels])
-    es = np.array([np.sqrt(np.sum(xi_error[nu == v] ** 2)) / np.sum(nu == v) for v in levels])
-    if len(levels) < 2:
-        return dict(out, status="too_few")
-    target = threshold * xi_el
-    above = xs >= target
-    for i in range(len(levels) - 1):
-        if not above[i] and above[i + 1]:
-            n1, n2, x1, x2 = levels[i], levels[i + 1], xs[i], xs[i + 1]
-            nu_bc = n1 + (target - x1) * (n2 - n1) / (x2 - x1)
-            # ∂ν/∂ξ1, ∂ν/∂ξ2, ∂ν/∂ξ_el of the linear interpolation.
-            d1 = (n2 - n1) * (target - x2) / (x2 - x1) ** 2
-            d2 = -(n2 - n1) * (target - x1) / (x2 - x1) ** 2
-            del_ = threshold * (n2 - n1) / (x2 - x1)
-            err = math.sqrt((d1 * es[i]) ** 2 + (d2 * es[i + 1]) ** 2 + (del_ * (xi_el_error or 0)) ** 2)
-            return dict(out, nu_bc=float(nu_bc), nu_bc_error=err, nu_below=float(n1), nu_above=float(n2),
-                        status="bracketed")
-    if above.all():
-        return dict(out, status="all_above")
-    if not above.any():
-        return dict(out, status="all_below")
-    return dict(out, status="only_downward")
+STATUS = {0: "bracketed", 1: "all_above", 2: "all_below", 3: "too_few", 4: "only_downward"}
 
 
 def fit_anisotropy(theta, y, y_error, sector_width):
@@ -218,28 +128,42 @@ def peak_agreement(ratio, peak, threshold=1.25):
     return np.isfinite(ratio) & (expected == (peak == 1))
 
 
-def analyse(table, k=2.0, factor=5, threshold=1.25, max_tail_share=0.05):
-    """Everything the figures and the report need beyond the table itself. Runs whose tail
-    share exceeds max_tail_share are not `measurable` and stay out of the ν_bc crossings."""
-    xi, xi_err = magnitude_lengths(table, k, factor)
-    cor = table["correlation"]
-    tails = np.array([tail_share(cor["r"], cor["C"][i], cor["C_error"][i], k, factor) for i in range(len(xi))])
-    measurable = np.isfinite(xi) & (tails <= max_tail_share)
-    refs = reference_rows(table)
-    xi_el, xi_el_err = xi_el_of(xi, xi_err, refs)
-    ratio, ratio_err = ratio_with_error(xi, xi_err, xi_el, xi_el_err)
-    runs = table["runs"]
+def analyse(table):
+    """gf-correlate's ξ_|C| results under the names the figures and the report use: per run
+    xi, xi_error, tail_share, measurable, ratio, ratio_error; xi_el, xi_el_error; per (e, μ)
+    series (dicts with nu_bc, nu_bc_error, nu_below, nu_above, status name, runs = measurable
+    runs); the settings (threshold, max_tail_share, k = abs_noise, factor = radial bins per
+    coarse bin, bin_width = the coarse bin width)."""
+    cor, runs = table["correlation"], table["runs"]
+    missing = [name for name in ("xi_abs", "xi_abs_error", "xi_abs_tail", "measurable", "xi_abs_ratio")
+               if name not in cor]
+    if missing:
+        raise SystemExit(f"{table['path']}: no /correlation/{missing[0]}: made by a gf-correlate without xi_abs; "
+                         "re-run gf-correlate (make ch5-files)")
+    attrs = cor["attrs"]
+    n = len(runs["packing_fraction"])
+    sweep = table.get("sweep", {})
+    threshold = float(sweep.get("attrs", {}).get("threshold", 1.25))
     series = []
-    for e, mu in sorted(set(zip(runs["restitution"].round(6), runs["friction"].round(6)))):
-        rows = select(table, restitution=e, friction=mu)
-        rows = rows[measurable[rows]]
-        c = crossing(runs["packing_fraction"][rows], xi[rows], xi_err[rows], xi_el, xi_el_err, threshold)
-        series.append(dict(c, restitution=float(e), friction=float(mu), runs=len(rows)))
-    return {"xi": xi, "xi_error": xi_err, "tail_share": tails, "measurable": measurable,
-            "max_tail_share": max_tail_share, "xi_el": xi_el, "xi_el_error": xi_el_err, "ratio": ratio,
-            "ratio_error": ratio_err, "reference_rows": refs, "series": series, "threshold": threshold,
-            "k": k, "factor": factor,
-            "bin_width": float(table["correlation"]["attrs"]["bin_width"]) * factor}
+    if "status_abs" in sweep:
+        for k in range(len(sweep["restitution"])):
+            series.append({"restitution": float(sweep["restitution"][k]), "friction": float(sweep["friction"][k]),
+                           "nu_bc": float(sweep["nu_bc_abs"][k]), "nu_bc_error": float(sweep["nu_bc_abs_error"][k]),
+                           "nu_below": float(sweep["nu_below_abs"][k]), "nu_above": float(sweep["nu_above_abs"][k]),
+                           "status": STATUS.get(int(sweep["status_abs"][k]), "?"),
+                           "runs": int(sweep["runs_abs"][k])})
+    bin_width = float(attrs["bin_width"])
+    coarse = float(attrs.get("abs_bin_width", bin_width))
+    return {"xi": np.asarray(cor["xi_abs"], dtype=float), "xi_error": np.asarray(cor["xi_abs_error"], dtype=float),
+            "tail_share": np.asarray(cor["xi_abs_tail"], dtype=float),
+            "measurable": np.asarray(cor["measurable"]).astype(bool).reshape(n),
+            "max_tail_share": float(attrs.get("abs_max_tail_share", 0.05)),
+            "xi_el": float(cor["xi_abs_el"]), "xi_el_error": float(cor["xi_abs_el_error"]),
+            "ratio": np.asarray(cor["xi_abs_ratio"], dtype=float),
+            "ratio_error": np.asarray(cor["xi_abs_ratio_error"], dtype=float),
+            "reference_rows": reference_rows(table), "series": series, "threshold": threshold,
+            "k": float(attrs.get("abs_noise", float("nan"))), "threshold_kind": str(attrs.get("abs_threshold", "soft")),
+            "factor": max(1, int(round(coarse / bin_width))), "bin_width": coarse}
 
 
 def fmt_pm(value, error):

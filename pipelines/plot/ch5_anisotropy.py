@@ -29,7 +29,7 @@ THESIS_A0, THESIS_THETA0 = 0.21, 0.013
 
 def well_defined(table, rows, max_relative_error):
     """Rows whose eq.-5.2 ξ is positive with a small relative error and whose correlations do
-    not reach the box (correlation_table.tail_share)."""
+    not reach the box (gf-correlate's /correlation/measurable)."""
     cor = table["correlation"]
     xi, err = cor["xi"][rows], cor["xi_error"][rows]
     measurable = ct.analyse(table)["measurable"][rows]

@@ -2,8 +2,9 @@
 """ch5_correlation.py [--restitution E --nu NU --nus NU1,NU2,...] TABLE.h5 OUTPUT.png: thesis
 Fig. 5.2 from gf-correlate's sweep table, μ = 0. Left: the isotropic C̄(ℓ) of the run nearest
 to NU (band: jackknife error). Right: log|C̄(ℓ)| for the runs nearest to NU1, NU2, ... (radial
-bins merged as for ξ_|C|; hollow markers where C̄ < 0) with the lines A·exp(−ℓ/ξ_|C|), ξ_|C| the
-pipeline's decay length (correlation_table.py) and A fitted to the points above noise. Without
+bins merged into gf-correlate's coarse bins of ξ_|C|; hollow markers where C̄ < 0) with the
+lines A·exp(−ℓ/ξ_|C|), ξ_|C| gf-correlate's decay length (/correlation/xi_abs) and A fitted to
+the points above noise. Without
 a run at E, the nearest e of the table is used."""
 import argparse
 import os

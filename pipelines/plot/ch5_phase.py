@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """ch5_phase.py --figure 5.9|5.10 TABLE.h5 OUTPUT.png: the binary-collision crossover ν_bc(e),
-where ξ_|C|/ξ_el first crosses 1.25 upward in ν (correlation_table.crossing: linear
-interpolation, first-order error bars), from gf-correlate's sweep table.
+where ξ_|C|/ξ_el first crosses 1.25 upward in ν over the measurable runs, as gf-correlate
+computes it (/sweep/nu_bc_abs: linear interpolation, errors from the jackknife errors of ξ_|C|
+and ξ_el).
 Fig. 5.9: ν_bc against e (μ = 0 filled; other μ hollow), with ν_c ≈ 0.845 (thesis).
 Fig. 5.10: the phase diagram in (ν, e): every run of the sweep at μ = 0 marked dilute (ξ/ξ_el
 < 1.25), dense, or with correlations reaching the box (not measurable, left out of ν_bc), the

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """ch5_xi.py --vary restitution|friction [--restitution E] TABLE.h5 OUTPUT.png: thesis Fig. 5.3
 (ξ against ν for every e at μ = 0, inset: the dense end) or Fig. 5.4 (--vary friction: every μ
-at e = E). ξ is the pipeline's ξ_|C| (correlation_table.py) in mean diameters σ, error bars
-its propagated errors; the dashed line is ξ_el (reference runs) and the dotted one 1.25 ξ_el.
-Hollow markers: runs whose correlations reach the box (correlation_table.tail_share), where
-ξ_|C| measures the cell rather than the network (the thesis' "too large to be measured")."""
+at e = E). ξ is gf-correlate's ξ_|C| (/correlation/xi_abs, the decay length of |C̄|) in mean
+diameters σ, error bars its block-jackknife errors; the dashed line is ξ_el (/correlation/
+xi_abs_el, the reference runs) and the dotted one 1.25 ξ_el. Hollow markers: runs that
+gf-correlate flags as not measurable (/correlation/measurable: correlations reach the box, so
+ξ_|C| measures the cell rather than the network, the thesis' "too large to be measured")."""
 import argparse
 import os
 import sys

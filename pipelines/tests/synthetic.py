@@ -117,11 +117,14 @@ def correlation_row(r, xi, amplitude=0.05, contact=1.4, oscillation=None, noise=
 
 
 def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0, angle_bins=24, grains=1000,
-                          frames=200, reference=(), rng=None):
+                          frames=200, reference=(), xi_abs_el=(1.7, 0.01), sweep_abs=(), rng=None):
     """A gf-correlate output with the datasets the chapter-5 scripts read. `rows` is a list of
     dicts: input, packing_fraction, restitution, friction, C, C_error (over the radial bins of
     bin_width up to max_lag), and optionally xi, xi_error (eq. 5.2), a0, theta0 (ξ(θ) made from
-    eq. 5.3), peak, peak_confidence, force_mode (where P(f) peaks; 0 = at f = 0)."""
+    eq. 5.3), xi_abs, xi_abs_error, measurable, xi_abs_tail (gf-correlate's ξ_|C|; ξ_|C|(θ) made
+    from eq. 5.3 with a0_abs), peak, peak_confidence, force_mode (where P(f) peaks; 0 = at f = 0).
+    xi_abs_el = (value, error); sweep_abs: per (e, μ) dicts restitution, friction, nu_bc,
+    nu_bc_error, status (int), runs (series not given: status 2, all below)."""
     rng = rng or np.random.default_rng(3)
     nb = int(round(max_lag / bin_width))
     r = (np.arange(nb) + 0.5) * bin_width
@@ -160,6 +163,22 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
             c[name] = col(name, 0.3 if name == "a0" else 0.0)
             c[name + "_error"] = np.full(n, 0.02)
         c["fit_chi2_dof"] = np.ones(n)
+        c.attrs.update({"abs_bin_width": 5 * bin_width, "abs_noise": 2.0, "abs_threshold": "soft",
+                        "abs_tail_from": 2 / 3, "abs_max_tail_share": 0.05})
+        xi_abs = col("xi_abs", 1.5)
+        c["xi_abs"], c["xi_abs_error"] = xi_abs, col("xi_abs_error", 0.02)
+        c["measurable"] = col("measurable", 1).astype(np.int32)
+        c["xi_abs_tail"] = col("xi_abs_tail", 0.0)
+        c["xi_abs_tail_error"] = np.full(n, 0.001)
+        c["xi_abs_el"], c["xi_abs_el_error"] = float(xi_abs_el[0]), float(xi_abs_el[1])
+        ratio = xi_abs / xi_abs_el[0]
+        c["xi_abs_ratio"] = ratio
+        c["xi_abs_ratio_error"] = np.abs(ratio) * np.hypot(col("xi_abs_error", 0.02) / xi_abs, xi_abs_el[1] / xi_abs_el[0])
+        a0_abs = col("a0_abs", 0.1)
+        c["xi_abs_theta"] = np.array([x * (1 - a * np.sin(2 * theta)) for x, a in zip(xi_abs, a0_abs)])
+        c["xi_abs_theta_error"] = 0.01 * np.abs(c["xi_abs_theta"][()])
+        c["a0_abs"], c["a0_abs_error"] = a0_abs, np.full(n, 0.01)
+        c["theta0_abs"], c["theta0_abs_error"] = np.zeros(n), np.full(n, 0.01)
         fo = out.create_group("forces")
         fo["f"], fo["f_bc"] = f, f
         fo["P"], fo["P_bc"] = P, np.array([pdf(1.0)] * n)
@@ -172,8 +191,19 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
         s = out.create_group("sweep")
         s["restitution"] = np.array([k[0] for k in keys])
         s["friction"] = np.array([k[1] for k in keys])
+        s.attrs["threshold"] = 1.25
         s["nu_bc"], s["nu_bc_error"] = np.full(len(keys), np.nan), np.full(len(keys), np.nan)
         s["status"] = np.full(len(keys), 2, dtype=np.int64)
+        given = {(g["restitution"], g["friction"]): g for g in sweep_abs}
+        rows_of = lambda k: sum(1 for row in rows if (row["restitution"], row["friction"]) == k  # noqa: E731
+                                and row.get("measurable", 1))
+        pick = lambda name, k, default: given[k].get(name, default) if k in given else default  # noqa: E731
+        s["nu_bc_abs"] = np.array([pick("nu_bc", k, np.nan) for k in keys])
+        s["nu_bc_abs_error"] = np.array([pick("nu_bc_error", k, np.nan) for k in keys])
+        s["nu_below_abs"] = np.array([pick("nu_below", k, np.nan) for k in keys])
+        s["nu_above_abs"] = np.array([pick("nu_above", k, np.nan) for k in keys])
+        s["status_abs"] = np.array([pick("status", k, 2) for k in keys], dtype=np.int32)
+        s["runs_abs"] = np.array([pick("runs", k, rows_of(k)) for k in keys], dtype=np.int32)
     return path
 
 

@@ -1,6 +1,7 @@
-"""Chapter 5: the pipeline-level analysis (correlation_table.py) on synthetic inputs with known
-answers, and smoke tests of the figure scripts and the report section on a synthetic
-gf-correlate table."""
+"""Chapter 5: correlation_table.py reading gf-correlate's ξ_|C| results (computed and tested in
+C++: lib/correlation/decay_length, tests/unit/test_correlation_abs.cpp), the sweep-level fit
+and rule check on synthetic inputs with known answers, and the figure scripts and the report
+section on a synthetic gf-correlate table with known ξ_|C|, flags and ν_bc."""
 import glob
 import math
 import os
@@ -21,74 +22,12 @@ import synthetic  # noqa: E402
 R = (np.arange(300) + 0.5) * 0.07
 
 
-class MagnitudeLengthTest(unittest.TestCase):
-    def test_exponential_envelope(self):
-        # |C̄| = A e^{-(ℓ-d)/ξ} beyond d: ∫ℓ|C̄|/∫|C̄| = d + ξ (exactly, for an untruncated tail).
-        for xi in (0.5, 1.5, 3.0):
-            for oscillation in (None, 2.0):
-                c, err = synthetic.correlation_row(R, xi, oscillation=oscillation)
-                got, got_err = ct.xi_magnitude(R, c, err, k=0.0, factor=1)
-                expected = 1.4 + xi
-                if oscillation:  # |cos| averages the envelope: only approximately d + ξ
-                    self.assertAlmostEqual(got, expected, delta=0.1 * expected)
-                else:
-                    self.assertAlmostEqual(got, expected, delta=0.01 * expected)
-
-    def test_noise_floor_is_removed(self):
-        rng = np.random.default_rng(1)
-        c, err = synthetic.correlation_row(R, 1.0, amplitude=0.05, noise=1e-3, rng=rng)
-        raw, _ = ct.xi_magnitude(R, c, err, k=0.0, factor=5)
-        clean, _ = ct.xi_magnitude(R, c, err, k=2.0, factor=5)
-        # Without thresholding, the ℓ-weighted noise floor drags ξ out (+35 % here); with it,
-        # ξ ≈ d + ξ, biased low by the part of the tail hidden in the noise (−7 % here).
-        self.assertGreater(raw, 1.2 * 2.4)
-        self.assertAlmostEqual(clean, 2.4, delta=0.2)
-
-    def test_dilute_limit_is_mean_contact_distance(self):
-        # Binary collisions: C̄ < 0 only at contact distances 1.3 and 1.5 with weights 1 : 3.
-        c = np.zeros_like(R)
-        c[np.argmin(np.abs(R - 1.3))] = -1.0 / 1.3
-        c[np.argmin(np.abs(R - 1.5))] = -3.0 / 1.5
-        got, _ = ct.xi_magnitude(R, c, np.full_like(R, 1e-9), k=2.0, factor=1)
-        # Weights ∝ |C̄|·(bin area ∝ ℓ) · ... : the |C̄|-weighted mean of the two distances.
-        w1, w2 = 1.0 / 1.3, 3.0 / 1.5
-        self.assertAlmostEqual(got, (R[np.argmin(np.abs(R - 1.3))] * w1 + R[np.argmin(np.abs(R - 1.5))] * w2)
-                               / (w1 + w2), places=9)
-
-    def test_tail_share_flags_box_spanning_correlations(self):
-        c, err = synthetic.correlation_row(R, 1.0, noise=1e-4, rng=np.random.default_rng(2))
-        self.assertLess(ct.tail_share(R, c, err), 0.01)
-        # A network spanning the cell: a plateau of −5e-4 up to ℓ_max besides the contact peak.
-        plateau = c - np.where(R > 1.4, 5e-4, 0.0)
-        self.assertGreater(ct.tail_share(R, plateau, err), 0.05)
-
+class RebinTest(unittest.TestCase):
     def test_rebin_keeps_area_integral(self):
+        # Fig. 5.2 shows C̄ on gf-correlate's coarse bins, merged here for display only.
         c = np.sin(R)
         rb, cb, _ = ct.rebin(R, c, np.ones_like(R), 5)
         self.assertAlmostEqual(np.sum(cb * rb) * 5, np.sum(c * R), places=9)
-
-
-class CrossingTest(unittest.TestCase):
-    def test_linear_interpolation_and_error(self):
-        nu = np.array([0.5, 0.6, 0.7, 0.8])
-        xi = np.array([1.0, 1.1, 1.3, 2.0])
-        got = ct.crossing(nu, xi, np.full(4, 0.01), 1.0, 0.0, 1.25)
-        self.assertEqual(got["status"], "bracketed")
-        self.assertAlmostEqual(got["nu_bc"], 0.6 + 0.15 / 0.2 * 0.1)
-        # Error: |∂ν/∂ξ1|·0.01 and |∂ν/∂ξ2|·0.01 in quadrature.
-        d1, d2 = 0.1 * 0.05 / 0.04, 0.1 * 0.15 / 0.04
-        self.assertAlmostEqual(got["nu_bc_error"], 0.01 * math.hypot(d1, d2))
-
-    def test_statuses(self):
-        nu = np.array([0.5, 0.6, 0.7])
-        self.assertEqual(ct.crossing(nu, [1.0, 1.1, 1.2], [0.01] * 3, 1.0, 0.0)["status"], "all_below")
-        self.assertEqual(ct.crossing(nu, [1.3, 1.4, 1.5], [0.01] * 3, 1.0, 0.0)["status"], "all_above")
-        self.assertEqual(ct.crossing(nu, [1.3, 1.1, 1.0], [0.01] * 3, 1.0, 0.0)["status"], "only_downward")
-        self.assertEqual(ct.crossing([0.5], [1.0], [0.01], 1.0, 0.0)["status"], "too_few")
-
-    def test_runs_at_the_same_nu_are_merged(self):
-        got = ct.crossing([0.5, 0.5, 0.7], [1.0, 1.2, 1.5], [0.01] * 3, 1.0, 0.0)
-        self.assertAlmostEqual(got["nu_bc"], 0.5 + 0.15 / 0.4 * 0.2)
 
 
 class AnisotropyFitTest(unittest.TestCase):
@@ -119,6 +58,11 @@ class PeakRuleTest(unittest.TestCase):
 
 
 class Ch5OutputsTest(unittest.TestCase):
+    # ξ_|C| = 1.7 + 3(ν − 0.55 − 0.2e)+ (+0.5 with friction at ν > 0.7) crosses 1.25 ξ_el =
+    # 1.25·1.7 at ν = 0.6917 + 0.2e: the ν_bc gf-correlate would write, given to the table.
+    NU_BC = {(0.0, 0.0): 0.6917, (0.25, 0.0): 0.7417, (0.5, 0.0): 0.7917, (0.0, 0.4): 0.66}
+    NOT_MEASURABLE = {(0.81, 0.0, 0.0), (0.81, 0.0, 0.4)}
+
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
@@ -128,16 +72,21 @@ class Ch5OutputsTest(unittest.TestCase):
         for mu in (0.0, 0.4):
             for e in ((0.0, 0.25, 0.5, 0.75, 0.92) if mu == 0 else (0.0,)):
                 for nu in (0.3, 0.6, 0.7, 0.77, 0.81):
-                    # ξ_|C| grows with ν and with decreasing e; dilute: ξ_el ≈ d + 0.3.
                     xi = 0.3 + 3.0 * max(0.0, nu - 0.55 - 0.2 * e) + (0.5 if mu > 0 and nu > 0.7 else 0)
                     c, err = synthetic.correlation_row(R, xi, noise=1e-4, rng=rng)
-                    dense = 1.4 + xi > 1.25 * 1.74  # ξ_el comes out 1.74 (bins)
+                    dense = 1.4 + xi >= 1.25 * 1.7
                     rows.append(dict(input=os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}_mu{mu:.2f}.h5"),
                                      packing_fraction=nu, restitution=e, friction=mu, C=c, C_error=err,
-                                     xi=1.4 + xi, xi_error=0.05, peak=0 if dense else 1,
-                                     force_mode=0.0 if dense else 0.8))
+                                     xi=1.4 + xi, xi_error=0.05, xi_abs=1.4 + xi, xi_abs_error=0.02,
+                                     measurable=0 if (nu, e, mu) in cls.NOT_MEASURABLE else 1,
+                                     xi_abs_tail=0.2 if (nu, e, mu) in cls.NOT_MEASURABLE else 0.001,
+                                     peak=0 if dense else 1, force_mode=0.0 if dense else 0.8))
+        cls.rows = rows
         ref = rows[4 * 5 + 0]["input"]  # e = 0.92, ν = 0.3
-        cls.table = synthetic.write_correlate_table(os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref])
+        sweep = [dict(restitution=e, friction=mu, nu_bc=v, nu_bc_error=0.004, nu_below=0.6 + 0.1 * (v > 0.7),
+                      nu_above=0.7 + 0.07 * (v > 0.7), status=0) for (e, mu), v in cls.NU_BC.items()]
+        cls.table = synthetic.write_correlate_table(os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref],
+                                                    xi_abs_el=(1.7, 0.012), sweep_abs=sweep)
         runs = [synthetic.write_packing(os.path.join(d, f"window{k}.h5")) for k in range(2)]
         labels = [np.array([0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 4, 0, 5, 5, 0, 0]),
                   np.array([1] * 10 + [2, 2, 2, 0, 0, 0])]
@@ -153,20 +102,42 @@ class Ch5OutputsTest(unittest.TestCase):
         self.assertEqual(res.returncode, 0, res.stderr)
         return res
 
-    def test_analysis_of_the_sweep(self):
-        res = ct.analyse(ct.read_table(self.table))
-        # Dilute rows: contact distance 1.4 plus a 0.3 tail (+0.04 from the bins' discretisation).
-        self.assertAlmostEqual(res["xi_el"], 1.7, delta=0.05)
+    def test_analysis_reads_the_programs_values(self):
+        table = ct.read_table(self.table)
+        res = ct.analyse(table)
+        runs = table["runs"]
+        # Per run: gf-correlate's ξ_|C|, its error, flag and ratio, row by row.
+        np.testing.assert_array_equal(res["xi"], [row["xi_abs"] for row in self.rows])
+        np.testing.assert_array_equal(res["xi_error"], [0.02] * len(self.rows))
+        flagged = {(runs["packing_fraction"][i], runs["restitution"][i], runs["friction"][i])
+                   for i in np.flatnonzero(~res["measurable"])}
+        self.assertEqual(flagged, self.NOT_MEASURABLE)
+        self.assertEqual(res["xi_el"], 1.7)
+        self.assertEqual(res["xi_el_error"], 0.012)
+        np.testing.assert_allclose(res["ratio"], res["xi"] / 1.7)
+        self.assertEqual(list(res["reference_rows"]), [20])
+        self.assertEqual((res["factor"], res["k"], res["threshold"], res["max_tail_share"]), (5, 2.0, 1.25, 0.05))
+        # Per series: ν_bc and statuses as written, series with no crossing given are all_below.
         series = {(s["restitution"], s["friction"]): s for s in res["series"]}
-        # ξ_|C| = 1.4 + 0.3 + 3(ν − 0.55 − 0.2e)+ crosses 1.25·1.7 at ν = 0.6917 + 0.2e.
-        for e in (0.0, 0.25, 0.5):
-            s = series[(e, 0.0)]
-            self.assertEqual(s["status"], "bracketed")
-            self.assertAlmostEqual(s["nu_bc"], 0.6917 + 0.2 * e, delta=0.03)
-            self.assertLess(s["nu_below"], s["nu_bc"])
-            self.assertGreater(s["nu_above"], s["nu_bc"])
-        self.assertLess(series[(0.0, 0.4)]["nu_bc"], series[(0.0, 0.0)]["nu_bc"])
+        self.assertEqual(len(series), 6)
+        for key, nu_bc in self.NU_BC.items():
+            self.assertEqual(series[key]["status"], "bracketed")
+            self.assertAlmostEqual(series[key]["nu_bc"], nu_bc)
+            self.assertEqual(series[key]["nu_bc_error"], 0.004)
         self.assertEqual(series[(0.92, 0.0)]["status"], "all_below")
+        self.assertEqual(series[(0.0, 0.0)]["runs"], 4)  # ν = 0.81 is not measurable
+
+    def test_table_without_xi_abs_is_refused(self):
+        old = os.path.join(self.tmp.name, "old_table.h5")
+        import shutil
+        import h5py
+        shutil.copy(self.table, old)
+        with h5py.File(old, "a") as f:
+            del f["correlation/xi_abs"]
+        with self.assertRaises(SystemExit) as caught:
+            ct.analyse(ct.read_table(old))
+        self.assertIn("xi_abs", str(caught.exception))
+        os.remove(old)
 
     def test_figures(self):
         d = self.tmp.name
@@ -195,7 +166,9 @@ class Ch5OutputsTest(unittest.TestCase):
         with open(out) as fh:
             text = fh.read()
         for needle in ("## Chapter 5", "(thesis l. 555)", "(thesis l. 645)", "| 0.770 |", "all_below",
-                       "a0 = ", "| `window1.h5` | 2 | 13 | 2 | 10 |"):
+                       "a0 = ", "| `window1.h5` | 2 | 13 | 2 | 10 |", "| 0 | 0 | 4 | 0.6917 ± 0.0040 | bracketed |",
+                       "| 0.25 | 0 | 5 | 0.7417 ± 0.0040 | bracketed |", "1.459 ± 0.016 † ○",
+                       "decay length per direction", "pooled fit of eq. 5.3's shape): a0 = 0.100"):
             self.assertIn(needle, text)
         # The synthetic P(f) decisions follow the rule exactly.
         self.assertRegex(text, r"of the (\d+) runs with ξ/ξ_el ≥ 1.25, \1 have their maximum at f = 0; "

@@ -150,6 +150,11 @@ TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
   EXPECT_LT(read_doubles(out, "/correlation/xi_error")[0], 1e-12) << "every block has ξ = d exactly";
   EXPECT_NEAR(read_doubles(out, "/forces/mean_force")[0], s.force / s.contacts, 1e-6);
   EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_el")));
+  // ξ_|C| of isolated pairs: all of |C| at d, so the same harmonic mean, measurable.
+  EXPECT_NEAR(read_doubles(out, "/correlation/xi_abs")[0], s.w2 / s.w2_over_d, 1e-12);
+  EXPECT_EQ(read_ints(out, "/correlation/measurable")[0], 1);
+  EXPECT_EQ(read_doubles(out, "/correlation/xi_abs_tail")[0], 0);
+  EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_abs_el")));
   // C(ℓ) sits in the one bin holding ℓ = 1.3, and the whole C integrates to −1/2 (sum rule).
   const auto r_bins = read_doubles(out, "/correlation/r"), c = read_doubles(out, "/correlation/C");
   const double width = r_bins[1] - r_bins[0];
@@ -207,6 +212,12 @@ TEST(GfCorrelate, SweepGivesNuBcAndClusters) {
   EXPECT_NEAR(read_scalar(dir / "ref_out.h5", "/correlation/xi_el"), 1.0, 1e-12);
   EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/sweep/nu_bc")[0], 0.7 + 0.05 / 0.3 * 0.1, 1e-12);
   EXPECT_EQ(string_attribute(dir / "ref_out.h5", "/parameters", "reference"), ref);
+  // ξ_|C| is the pair distance too: the same ν_bc from the reference's ξ_|C| = 1.
+  EXPECT_NEAR(read_scalar(dir / "ref_out.h5", "/correlation/xi_abs_el"), 1.0, 1e-12);
+  EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/correlation/xi_abs_ratio")[2], 1.5, 1e-12);
+  EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/sweep/nu_bc_abs")[0], 0.7 + 0.05 / 0.3 * 0.1, 1e-12);
+  EXPECT_EQ(read_ints(dir / "ref_out.h5", "/sweep/status_abs")[0], 0);
+  EXPECT_EQ(read_ints(dir / "ref_out.h5", "/sweep/regime_abs"), (std::vector<std::int32_t>{0, 0, 1}));
 }
 
 TEST(GfCorrelate, RealShearRun) {
@@ -221,6 +232,10 @@ TEST(GfCorrelate, RealShearRun) {
   EXPECT_NE(r.err.find("xi ="), std::string::npos) << r.err;
   EXPECT_EQ(read_ints(out, "/runs/frames")[0], 16);  // strains 0.10, 0.12, …, 0.40
   const double xi = read_doubles(out, "/correlation/xi")[0];
+  const double xi_abs = read_doubles(out, "/correlation/xi_abs")[0];
+  EXPECT_GT(xi_abs, 0.5);
+  EXPECT_LT(xi_abs, 20);
+  EXPECT_GT(read_doubles(out, "/correlation/xi_abs_error")[0], 0);
   EXPECT_GT(xi, 0.5);
   EXPECT_LT(xi, 20);
   EXPECT_TRUE(std::isfinite(read_doubles(out, "/correlation/a0")[0]));
@@ -281,6 +296,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
         BadInput{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
         BadInput{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
+        BadInput{"abs_bin_width_not_a_multiple", "{run} -o {out} --abs-bin-width 0.33", "--abs-bin-width"},
+        BadInput{"abs_threshold_unknown", "{run} -o {out} --abs-threshold medium", "--abs-threshold"},
+        BadInput{"max_tail_share_above_one", "{run} -o {out} --max-tail-share 1.5", "--max-tail-share"},
         BadInput{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
         BadInput{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
     bad_input_name);

@@ -74,7 +74,10 @@ Reference brute_force(const io::Frame& f, const LagGrid& grid) {
       double theta = std::atan2(d.y(), d.x());
       if (theta < 0) theta += M_PI;
       if (theta >= M_PI) theta -= M_PI;
-      ref.sums.sector[std::min(int(theta / grid.sector_width()), grid.angle_bins - 1)] += w;
+      const int k = std::min(int(theta / grid.sector_width()), grid.angle_bins - 1);
+      ref.sums.sector[k] += w;
+      ref.sums.sector_w[std::size_t(k) * grid.coarse_bins() + b / grid.coarse] += w;
+      ref.sums.sector_w_over_lag[std::size_t(k) * grid.coarse_bins() + b / grid.coarse] += w / lag;
       ref.map[bin(d.y()) * side + bin(d.x())] += 0.5 * w;
       ref.map[bin(-d.y()) * side + bin(-d.x())] += 0.5 * w;
     }
@@ -119,7 +122,7 @@ TEST(ForceCorrelation, PairSumsEqualBruteForceWithLeesEdwardsOffsets) {
     for (double max_lag : {11.9, 2.5}) {
       const Box box{30, 24, true, offset};
       const io::Frame f = random_frame(std::uint64_t(offset * 10 + max_lag), box, 260);
-      const LagGrid grid = LagGrid::make(0.05, max_lag, 24, 0.4);
+      const LagGrid grid = LagGrid::make(0.05, max_lag, 24, 0.4, 3);  // coarse bins: 3 radial bins each
       PairSums sums(grid);
       std::vector<double> map(std::size_t(grid.map_side()) * grid.map_side(), 0.0);
       Correlator(grid).accumulate(loaded_grains(f), sums, map);
@@ -130,6 +133,8 @@ TEST(ForceCorrelation, PairSumsEqualBruteForceWithLeesEdwardsOffsets) {
       expect_close(sums.w, ref.sums.w, scale, "sum w");
       expect_close(sums.w_over_lag, ref.sums.w_over_lag, scale, "sum w/l");
       expect_close(sums.sector, ref.sums.sector, scale, "sector");
+      expect_close(sums.sector_w, ref.sums.sector_w, scale, "sector x coarse bin, w");
+      expect_close(sums.sector_w_over_lag, ref.sums.sector_w_over_lag, scale, "sector x coarse bin, w/l");
       const std::vector<double> c = correlation_map(map, sums.norm, grid);
       for (std::size_t k = 0; k < c.size(); ++k)
         if (std::isfinite(c[k])) {
