@@ -16,3 +16,24 @@ CH4_FROM_STRAIN   := 0.5
 SHEAR_STRAIN      := 5
 SHEAR_STRAIN_STEP := 1e-3
 SHEAR_FRAME_EVERY := 1000
+# Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν (friction lowers it).
+CH4_FRICTION_NU   := 0.700 0.760 0.780
+CH4_FRICTION_E    := 0.50
+# Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
+# grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. TIMING: see README (gf-incline, quick size).
+INCLINE_WIDTH           := 40
+INCLINE_HEIGHT          := 25
+INCLINE_SEED            := 1
+INCLINE_E               := 0.50
+INCLINE_REFERENCE_ANGLE := 12
+INCLINE_ANGLES_MU0      := 10 12 14
+INCLINE_ANGLES_MU04     := 20 23
+INCLINE_CRITICAL_ANGLES := 5 8
+INCLINE_TIME            := 350
+INCLINE_TIME_STEP       := 5e-3
+INCLINE_FROM_TIME       := 150
+INCLINE_PROFILE_BLOCK   := 2000
+INCLINE_FRAME_EVERY     := 10000
+INCLINE_CRITICAL_WINDOW := 100
+INCLINE_BASE_SKIP       := 3
+INCLINE_SURFACE_SKIP    := 6
