@@ -14,6 +14,11 @@
 # V_x exponent per flowing run) and $(RUNS)/ch4_critical_angle.h5 (critical_angle.py: flowing or
 # not per angle, θ_c with its bracket). Figures: $(FIGURES)/fig4_7.png … fig4_10.png.
 
+# Fig 4.10 compares the incline with the shear sweep's rows at the incline's restitution.
+ifneq ($(strip $(CH4_FRICTION_E)),$(strip $(INCLINE_E)))
+$(warning CH4_FRICTION_E ($(CH4_FRICTION_E)) differs from INCLINE_E ($(INCLINE_E)): Fig 4.10 (μ = 0.4) will lack shear data)
+endif
+
 incline_pack = $(RUNS)/incline_pack_w$(INCLINE_WIDTH)_h$(INCLINE_HEIGHT)_s$(1).h5
 incline_run  = $(RUNS)/incline_th$(1)_e$(2)_mu$(3)_s$(4).h5
 # Flowing runs for the bulk rheology (Fig 4.10): every angle of each friction.

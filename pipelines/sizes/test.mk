@@ -14,7 +14,7 @@ SHEAR_STRAIN      := 0.2
 SHEAR_STRAIN_STEP := 1e-3
 SHEAR_FRAME_EVERY := 100
 CH4_FRICTION_NU   := 0.700
-CH4_FRICTION_E    := 0.00
+CH4_FRICTION_E    := 0.50
 # Chapter 4, incline: a layer 5 diameters thick on a base 10 wide, 20 τ.
 INCLINE_WIDTH           := 10
 INCLINE_HEIGHT          := 5
