@@ -142,10 +142,10 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
             cell(sweep, name, r) for name in ("pressure_scaled", "shear_stress_scaled", "temperature_scaled",
                                               "s_over_p", "normal_stress_difference", "pressure_static_scaled",
                                               "pressure_kinetic_scaled")) + " |")
-    n1 = np.abs(st["normal_stress_difference"])
+    n1 = np.abs(st["normal_stress_difference"][ss.select(sweep, friction=0.0)])
     static_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] > st["pressure_kinetic"][r]]
     kinetic_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] <= st["pressure_kinetic"][r]]
-    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} runs of the sweep (every e). "
+    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} μ = 0 runs of the sweep (every e). "
               f"pˢ > pᵏ at ν = {', '.join(f'{v:.3f}' for v in static_wins) or 'none'}; "
               f"pˢ ≤ pᵏ at ν = {', '.join(f'{v:.3f}' for v in kinetic_wins) or 'none'}."]
 
