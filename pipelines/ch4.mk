@@ -6,7 +6,8 @@
 # The strain settings belong to the SIZE and are not in the name: after changing them,
 # remove the runs (clean-runs) to redo them.
 # Tables (steady_state.py, one row per run): $(RUNS)/ch4_sweep.h5 (ν x e grid at CH4_RATE, μ = 0;
-# and the μ = 0.4 runs at CH4_FRICTION_NU, e = CH4_FRICTION_E that Fig 4.10 compares with the incline),
+# and, for Fig 4.10's comparison with the incline, μ = 0.4 runs at CH4_FRICTION_NU and μ = 0 runs at
+# CH4_INCLINE_NU, both at e = CH4_FRICTION_E),
 # $(RUNS)/ch4_bagnold.h5 (Fig 4.2 pair). Figures: $(FIGURES)/fig4_<k>.png.
 # Analyses and figures also depend on the size file: a grid or CH4_FROM_STRAIN change redoes
 # them (never a simulation).
@@ -16,6 +17,9 @@ shear_run = $(RUNS)/shear_nu$(1)_e$(2)_mu$(3)_r$(4)_s$(5).h5
 CH4_SWEEP_RUNS    := $(foreach e,$(CH4_E),$(foreach nu,$(CH4_NU),\
                        $(call shear_run,$(nu),$(e),0.00,$(CH4_RATE),$(CH4_SEED)))) \
                      $(foreach nu,$(CH4_FRICTION_NU),$(call shear_run,$(nu),$(CH4_FRICTION_E),0.40,$(CH4_RATE),$(CH4_SEED)))
+# μ = 0 at e = CH4_FRICTION_E and CH4_INCLINE_NU: shear points that bracket the incline's bulk ν.
+CH4_SWEEP_RUNS    += $(filter-out $(CH4_SWEEP_RUNS),$(foreach nu,$(CH4_INCLINE_NU),\
+                       $(call shear_run,$(nu),$(CH4_FRICTION_E),0.00,$(CH4_RATE),$(CH4_SEED))))
 CH4_BAGNOLD_RUNS  := $(foreach r,$(CH4_BAGNOLD_RATES),$(call shear_run,$(CH4_BAGNOLD_NU),0.00,0.00,$(r),$(CH4_SEED)))
 # Figs 4.1 and 4.3: the Fig 4.2 run at the first (slowest) rate.
 CH4_REFERENCE_RUN := $(firstword $(CH4_BAGNOLD_RUNS))

@@ -18,6 +18,7 @@ SHEAR_FRAME_EVERY := 1000
 # Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν.
 CH4_FRICTION_NU   := 0.700 0.740 0.760 0.770 0.780 0.790 0.800
 CH4_FRICTION_E    := 0.50
+CH4_INCLINE_NU    :=
 # Chapter 4, incline: the thesis' sizes are "heights and widths ranging between 25 and 300
 # grain diameters" (§4.3.1); here a layer 50 diameters thick on a base 100 wide (~5·10³
 # grains), the default step 2e-3 τ, 2000 τ per run (the transient grows with the height:

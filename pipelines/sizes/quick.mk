@@ -19,6 +19,8 @@ SHEAR_FRAME_EVERY := 1000
 # Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν (friction lowers it).
 CH4_FRICTION_NU   := 0.700 0.760 0.780
 CH4_FRICTION_E    := 0.50
+# μ = 0 shear runs at e = CH4_FRICTION_E bracketing the incline's bulk ν (0.81-0.83 at 10-14°).
+CH4_INCLINE_NU    := 0.810 0.830
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
 # grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. TIMING: see README (gf-incline, quick size).
 INCLINE_WIDTH           := 40

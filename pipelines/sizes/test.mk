@@ -15,6 +15,7 @@ SHEAR_STRAIN_STEP := 1e-3
 SHEAR_FRAME_EVERY := 100
 CH4_FRICTION_NU   := 0.700
 CH4_FRICTION_E    := 0.50
+CH4_INCLINE_NU    :=
 # Chapter 4, incline: a layer 5 diameters thick on a base 10 wide, 20 τ.
 INCLINE_WIDTH           := 10
 INCLINE_HEIGHT          := 5
