@@ -164,7 +164,8 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
             r = ss.select(sweep, friction=0.0, restitution=e, packing_fraction=nu)
             cells.append(cell(sweep, "pressure_static_scaled", r[0]) if len(r) else "–")
             values += [st["pressure_static_scaled"][r[0]]] if len(r) else []
-        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + (f" | {max(values) / min(values):.3g} |" if len(values) > 1 else " | – |"))
+        ratio = f"{max(values) / min(values):.3g}" if len(values) > 1 else "–"
+        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + f" | {ratio} |")
     return lines
 
 
