@@ -4,7 +4,8 @@ OUTPUT.png: thesis Fig. 4.10, s/p (top), γ̇⟨R⟩/√T (middle) and mT/(p⟨R
 packing fraction, from the bulk of incline flow (squares: incline_bulk.py table, one point per
 flowing run, error bars the scatter of the bulk layers) and from simple shear (circles:
 steady_state.py table, blocking errors), for μ = 0 (left) and μ = 0.4 (right). Shear runs at
-restitution E (the incline's) with ν ≥ NU (0.7): like the thesis, only the dense shear data."""
+restitution E (the incline's) with ν ≥ NU (0.7): like the thesis, only the dense shear data.
+mT/(p⟨R⟩²) on a log scale (it spans decades near ν_max)."""
 import argparse
 import os
 import sys
@@ -59,7 +60,12 @@ def main():
                                 textcoords="offset points", xytext=(4, 4), fontsize=7, color="tab:red")
             if not len(rows) and not len(inc):
                 ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
+            elif not len(inc) and row == 0:
+                ax.text(0.5, 0.9, "no flowing incline run at this μ", transform=ax.transAxes, ha="center",
+                        fontsize=8, color="tab:red")
             ax.set_ylabel(label)
+            if name == "mT_over_pR2":
+                ax.set_yscale("log")  # spans decades as ν → ν_max
             if row == 0:
                 ax.set_title(f"μ = {mu:g}")
                 ax.legend(fontsize=8)

@@ -20,7 +20,7 @@ SHEAR_FRAME_EVERY := 1000
 CH4_FRICTION_NU   := 0.700 0.760 0.780
 CH4_FRICTION_E    := 0.50
 # μ = 0 shear runs at e = CH4_FRICTION_E bracketing the incline's bulk ν (0.81-0.83 at 10-14°).
-CH4_INCLINE_NU    := 0.810 0.830
+CH4_INCLINE_NU    := 0.810 0.825
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
 # grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. TIMING: see README (gf-incline, quick size).
 INCLINE_WIDTH           := 40
@@ -34,7 +34,7 @@ INCLINE_ANGLES_MU0      := 10 12 14
 # the sweep limit), 10-40x the frictionless flow: ~1 CPU hour per 400 τ run (measured at
 # 20° and 24°). Fig 4.10 (right) then shows the shear data only.
 INCLINE_ANGLES_MU04     :=
-INCLINE_CRITICAL_ANGLES := 5 8
+INCLINE_CRITICAL_ANGLES := 5 7
 INCLINE_TIME            := 400
 INCLINE_TIME_STEP       := 5e-3
 INCLINE_FROM_TIME       := 200
