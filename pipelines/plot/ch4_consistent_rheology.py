@@ -61,7 +61,7 @@ def main():
             if not len(rows) and not len(inc):
                 ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
             elif not len(inc) and row == 0:
-                ax.text(0.5, 0.9, "no flowing incline run at this μ", transform=ax.transAxes, ha="center",
+                ax.text(0.3, 0.1, "no flowing incline run at this μ", transform=ax.transAxes, ha="center",
                         fontsize=8, color="tab:red")
             ax.set_ylabel(label)
             if name == "mT_over_pR2":
