@@ -5,14 +5,21 @@
 # can be asked for (make -f Makefile.sweeps runs/quick/shear_nu0.780_e0.25_mu0.40_r1e+00_s1.h5).
 # The strain settings belong to the SIZE and are not in the name: after changing them,
 # remove the runs (clean-runs) to redo them.
-# Tables (steady_state.py, one row per run): $(RUNS)/ch4_sweep.h5 (ν x e grid at CH4_RATE),
+# Tables (steady_state.py, one row per run): $(RUNS)/ch4_sweep.h5 (ν x e grid at CH4_RATE, μ = 0;
+# and, for Fig 4.10's comparison with the incline, μ = 0.4 runs at CH4_FRICTION_NU and μ = 0 runs at
+# CH4_INCLINE_NU, both at e = CH4_FRICTION_E),
 # $(RUNS)/ch4_bagnold.h5 (Fig 4.2 pair). Figures: $(FIGURES)/fig4_<k>.png.
 # Analyses and figures also depend on the size file: a grid or CH4_FROM_STRAIN change redoes
 # them (never a simulation).
 
 shear_run = $(RUNS)/shear_nu$(1)_e$(2)_mu$(3)_r$(4)_s$(5).h5
+# μ = 0 at every e; μ = 0.4 (Fig 4.10 right, beside the incline) at CH4_FRICTION_E only.
 CH4_SWEEP_RUNS    := $(foreach e,$(CH4_E),$(foreach nu,$(CH4_NU),\
-                       $(call shear_run,$(nu),$(e),0.00,$(CH4_RATE),$(CH4_SEED))))
+                       $(call shear_run,$(nu),$(e),0.00,$(CH4_RATE),$(CH4_SEED)))) \
+                     $(foreach nu,$(CH4_FRICTION_NU),$(call shear_run,$(nu),$(CH4_FRICTION_E),0.40,$(CH4_RATE),$(CH4_SEED)))
+# μ = 0 at e = CH4_FRICTION_E and CH4_INCLINE_NU: shear points that bracket the incline's bulk ν.
+CH4_SWEEP_RUNS    += $(filter-out $(CH4_SWEEP_RUNS),$(foreach nu,$(CH4_INCLINE_NU),\
+                       $(call shear_run,$(nu),$(CH4_FRICTION_E),0.00,$(CH4_RATE),$(CH4_SEED))))
 CH4_BAGNOLD_RUNS  := $(foreach r,$(CH4_BAGNOLD_RATES),$(call shear_run,$(CH4_BAGNOLD_NU),0.00,0.00,$(r),$(CH4_SEED)))
 # Figs 4.1 and 4.3: the Fig 4.2 run at the first (slowest) rate.
 CH4_REFERENCE_RUN := $(firstword $(CH4_BAGNOLD_RUNS))

@@ -13,6 +13,8 @@ import h5py
 import numpy as np
 
 import correlation_table as ct
+import critical_angle as ca
+import incline_bulk as ib
 import steady_state as ss
 from granflow_h5 import atomic_output
 
@@ -141,10 +143,10 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
             cell(sweep, name, r) for name in ("pressure_scaled", "shear_stress_scaled", "temperature_scaled",
                                               "s_over_p", "normal_stress_difference", "pressure_static_scaled",
                                               "pressure_kinetic_scaled")) + " |")
-    n1 = np.abs(st["normal_stress_difference"])
+    n1 = np.abs(st["normal_stress_difference"][ss.select(sweep, friction=0.0)])
     static_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] > st["pressure_kinetic"][r]]
     kinetic_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] <= st["pressure_kinetic"][r]]
-    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} runs of the sweep (every e). "
+    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} μ = 0 runs of the sweep (every e). "
               f"pˢ > pᵏ at ν = {', '.join(f'{v:.3f}' for v in static_wins) or 'none'}; "
               f"pˢ ≤ pᵏ at ν = {', '.join(f'{v:.3f}' for v in kinetic_wins) or 'none'}."]
 
@@ -163,7 +165,122 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
             r = ss.select(sweep, friction=0.0, restitution=e, packing_fraction=nu)
             cells.append(cell(sweep, "pressure_static_scaled", r[0]) if len(r) else "–")
             values += [st["pressure_static_scaled"][r[0]]] if len(r) else []
-        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + f" | {max(values) / min(values):.3g} |")
+        ratio = f"{max(values) / min(values):.3g}" if len(values) > 1 else "–"
+        lines.append(f"| {nu:.3f} | " + " | ".join(cells) + f" | {ratio} |")
+    return lines
+
+
+def interpolate_shear(sweep, friction, restitution, name, nu):
+    """(value, error) of a shear steady quantity linearly interpolated in ν at the given μ and e;
+    None outside the sweep's ν range."""
+    rows = ss.select(sweep, friction=friction, restitution=restitution)
+    x = sweep["runs"]["packing_fraction"][rows]
+    if len(rows) < 2 or not x[0] <= nu <= x[-1]:
+        return None
+    k = min(int(np.searchsorted(x, nu, side="right")) - 1, len(x) - 2)
+    w = (nu - x[k]) / (x[k + 1] - x[k])
+    v, e = sweep["steady"][name][rows], sweep["steady"][name + "_error"][rows]
+    return (1 - w) * v[k] + w * v[k + 1], math.hypot((1 - w) * e[k], w * e[k + 1])
+
+
+def incline_section(incline_path, critical_path, sweep_path):
+    """Chapter 4, incline flow: bulk rheology, momentum balance, V_x exponent, θ_c, and the
+    comparison with simple shear at the same ν (thesis §4.3–4.4)."""
+    inc, crit = ib.read_table(incline_path), ca.read_table(critical_path)
+    runs, bulk, bal, fit = inc["runs"], inc["bulk"], inc["balance"], inc["fit"]
+    order = np.lexsort((runs["angle"], runs["friction"]))
+    d = 2 * runs["mean_radius"]
+    lines = ["", "## Chapter 4: incline flow (thesis §4.3–4.4, Figs 4.7–4.10)", "",
+             f"Table `{incline_path}` from `pipelines/analysis/incline_bulk.py`: {runs['grains'][0]} mobile grains "
+             f"on a base {runs['layer_length'][0] / d[0]:.1f} mean diameters long, e = {runs['restitution'][0]:g}; "
+             "profiles averaged over x and over the part of each run given by “from” (gf-incline, `/profiles`). "
+             f"Bulk = layers ≥ {float(inc['parameters']['base_skip']):g} diameters above the base and ≥ "
+             f"{float(inc['parameters']['surface_skip']):g} below the surface H = Σm/(L_x ν_bulk); ± is the "
+             "scatter of the bulk layers (standard error of their mean), drift the relative change across the "
+             "bulk (straight-line fit). “steady” is gf-incline's check (flow rate and kinetic energy: first and "
+             "second half of the averaged part agree within 3σ).", "",
+             quote("In the bulk of the flow, where the boundaries do not play a role, the packing fraction is "
+                   "constant and the granular temperature is linear. The y-dependence of the average flow "
+                   "velocity is very close to y^{3/2}", "449"),
+             quote("These three invariant quantities should only depend on the packing fraction and *not* on y.",
+                   "461"),
+             "| θ | μ | steady | from (τ) | run (τ) | H/σ | bulk layers | ν | s/p (tan θ) | γ̇⟨R⟩/√T | "
+             "mT/(p⟨R⟩²) | drift s/p, γ̇⟨R⟩/√T, mT/p⟨R⟩² | max dev. Σyy, s from g cos θ W, g sin θ W |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in order:
+        if not runs["flowing"][r]:
+            lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
+                         f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | – | – | "
+                         f"{bulk['packing_fraction'][r]:.3f} | not flowing | | | | |")
+            continue
+        cells = [fmt(bulk[n][r], bulk[n + "_error"][r]) for n in ("packing_fraction", "s_over_p", "inertial",
+                                                                 "mT_over_pR2")]
+        cells[1] += f" ({math.tan(math.radians(runs['angle'][r])):.4f})"
+        lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
+                     f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | "
+                     f"{runs['surface_height'][r] / d[r]:.1f} | {runs['bulk_layers'][r]} | " + " | ".join(cells)
+                     + f" | {bulk['s_over_p_drift'][r]:+.3f}, {bulk['inertial_drift'][r]:+.3f}, "
+                     f"{bulk['mT_over_pR2_drift'][r]:+.3f} | {bal['yy_max_deviation'][r]:.2%}, "
+                     f"{bal['xy_max_deviation'][r]:.2%} |")
+    flowing = order[runs["flowing"][order] == 1]
+    if len(flowing):
+        worst = max(float(np.max(bal["yy_max_deviation"][flowing])), float(np.max(bal["xy_max_deviation"][flowing])))
+        lines += ["", f"Momentum balance (eq. 4.7–4.9, must hold whatever the rheology): largest deviation over "
+                  f"the bulk layers of all flowing runs {worst:.2%} (issue 4 asks ≤ 3 %).", "",
+                  "### V_x profile", "",
+                  "Fits to the steady V_x(y): the Bagnold form V_x = V_s − c (H − y)^a (depth below the "
+                  "surface; a = 3/2 is the thesis' y^{3/2}) on the bulk layers and on all layers from the base "
+                  "skip to the surface, and a plain power law V_x ∝ y^b on the bulk layers:", "",
+                  "| θ | μ | a (bulk) | a (to the surface) | V_s/√(g⟨R⟩) | b of y^b |", "|---|---|---|---|---|---|"]
+        for r in flowing:
+            lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {fit['velocity_exponent'][r]:.2f} | "
+                         f"{fit['velocity_exponent_full'][r]:.2f} | {fit['surface_velocity'][r]:.3g} | "
+                         f"{fit['power_law_exponent'][r]:.2f} |")
+    if sweep_path:
+        sweep = ss.read_table(sweep_path)
+        lines += ["", "### Incline bulk against simple shear at the same ν (Fig 4.10)", "",
+                  quote("Data from simple shear flow (circles) and flow down an incline (squares) match on the same "
+                        "curves for both cases.", "489"),
+                  f"Shear values from `{sweep_path}` at the same μ and e, linearly interpolated in ν between the "
+                  "sweep's packing fractions (– when the incline's ν is outside them); difference in units of the "
+                  "combined error (incline: bulk-layer scatter; shear: blocking).", "",
+                  "| θ | μ | ν | invariant | incline | shear at ν | (incline − shear)/σ | relative |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for r in flowing:
+            for name, shear_name, label in (("s_over_p", "s_over_p", "s/p"),
+                                            ("inertial", "rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"),
+                                            ("mT_over_pR2", "mT_over_pR2", "mT/(p⟨R⟩²)")):
+                got = interpolate_shear(sweep, runs["friction"][r], runs["restitution"][r], shear_name,
+                                        bulk["packing_fraction"][r])
+                a, ea = bulk[name][r], bulk[name + "_error"][r]
+                if got is None:
+                    lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | "
+                                 f"{bulk['packing_fraction'][r]:.3f} | {label} | {fmt(a, ea)} | – | – | – |")
+                    continue
+                b, eb = got
+                lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {bulk['packing_fraction'][r]:.3f}"
+                             f" | {label} | {fmt(a, ea)} | {fmt(b, eb)} | {sigmas(a - b, ea, eb)} | "
+                             f"{(a - b) / b:+.1%} |")
+    cr, res = crit["runs"], crit["critical_angle"]
+    below, above = float(res["theta_below"]), float(res["theta_above"])
+    lines += ["", "### Critical angle θ_c (§4.3.1)", "",
+              quote("We identify the critical angle θ_c by the angle below which the average velocity fluctuates "
+                    "around zero.", "434"),
+              f"Table `{critical_path}` from `pipelines/analysis/critical_angle.py`: mean flow rate V̄ over the "
+              f"last {float(crit['parameters']['window']):g} τ of each run (blocking error), change Δ between "
+              f"that window's halves; rest = |V̄| ≤ max(3σ, {float(crit['parameters']['rest_velocity']):g}), "
+              f"steady = |Δ| ≤ max(3σ_Δ, {float(crit['parameters']['drift']):g}·V̄).", "",
+              "| θ | μ | V̄/√(g⟨R⟩) | Δ/√(g⟨R⟩) | state |", "|---|---|---|---|---|"]
+    for k in range(len(cr["angle"])):
+        lines.append(f"| {cr['angle'][k]:g} | {cr['friction'][k]:g} | "
+                     f"{fmt(cr['mean_velocity'][k], cr['mean_velocity_error'][k])} | "
+                     f"{fmt(cr['drift'][k], cr['drift_error'][k])} | {cr['state'][k]} |")
+    if math.isfinite(below) and math.isfinite(above):
+        lines += ["", f"**θ_c = {float(res['theta_c']):g}° ± {float(res['half_width']):g}°**: the lowest angle of "
+                  f"steady flow lies in ({below:g}°, {above:g}°]"
+                  + ("." if int(res["consistent"]) else "; the sweep is not monotonic (a lower angle flows)")]
+    else:
+        lines += ["", f"θ_c not bracketed by this sweep: in ({below:g}°, {above:g}°]."]
     return lines
 
 
@@ -326,11 +443,15 @@ def main():
     ap.add_argument("--ch4-reference", help="the Fig 4.3 run")
     ap.add_argument("--ch5-correlate", help="gf-correlate table of the chapter-5 sweep (Figs 5.2-5.10)")
     ap.add_argument("--ch5-clusters", help="gf-correlate table of the Fig 5.1 cluster windows")
+    ap.add_argument("--ch4-incline", help="incline_bulk.py table of the incline runs (Figs 4.8-4.10)")
+    ap.add_argument("--ch4-critical", help="critical_angle.py table (θ_c)")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
     ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
     if any(ch4) and not all(ch4):
         ap.error("--ch4-sweep, --ch4-bagnold and --ch4-reference go together")
+    if bool(args.ch4_incline) != bool(args.ch4_critical):
+        ap.error("--ch4-incline and --ch4-critical go together")
     lines = [f"# granflow reproduction report (SIZE={args.size})", "",
              "Generated by `make -f Makefile.sweeps`; every number below is read from the run files named.", "",
              "## Packings (thesis App. A.3)", "",
@@ -340,6 +461,8 @@ def main():
         lines.append(f"| {name} | {n} | {nu:.3f} | {got:.12f} | {ov:.2e} | {sec:.2f} | {seed} |")
     if all(ch4):
         lines += ch4_section(*ch4)
+    if args.ch4_incline:
+        lines += incline_section(args.ch4_incline, args.ch4_critical, args.ch4_sweep)
     if args.ch5_correlate:
         lines += ch5_section(args.ch5_correlate, args.ch5_clusters)
     out = atomic_output(args.output)

@@ -34,3 +34,28 @@ CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.790
 CH5_CLUSTER_E     := 0.92 0.00
 CH5_WINDOW_STEPS  := 2
+# Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν.
+CH4_FRICTION_NU   := 0.700 0.740 0.760 0.770 0.780 0.790 0.800
+CH4_FRICTION_E    := 0.50
+CH4_INCLINE_NU    :=
+# Chapter 4, incline: the thesis' sizes are "heights and widths ranging between 25 and 300
+# grain diameters" (§4.3.1); here a layer 50 diameters thick on a base 100 wide (~5·10³
+# grains), the default step 2e-3 τ, 2000 τ per run (the transient grows with the height:
+# ~200 τ at 25 diameters), the steady part detected (MSER). SIZE=paper INCLINE_HEIGHT=300
+# INCLINE_WIDTH=300 makes the largest of the thesis (~9·10⁴ grains).
+INCLINE_WIDTH           := 100
+INCLINE_HEIGHT          := 50
+INCLINE_SEED            := 1
+INCLINE_E               := 0.50
+INCLINE_REFERENCE_ANGLE := 12
+INCLINE_ANGLES_MU0      := 9 10 11 12 13 14 15
+INCLINE_ANGLES_MU04     := 18 20 22 24 26
+INCLINE_CRITICAL_ANGLES := 4 5 6 7 8
+INCLINE_TIME            := 2000
+INCLINE_TIME_STEP       := 2e-3
+INCLINE_FROM_TIME       :=
+INCLINE_PROFILE_BLOCK   := 5000
+INCLINE_FRAME_EVERY     := 50000
+INCLINE_CRITICAL_WINDOW := 300
+INCLINE_BASE_SKIP       := 3
+INCLINE_SURFACE_SKIP    := 8

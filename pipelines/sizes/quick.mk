@@ -39,3 +39,30 @@ CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.790
 CH5_CLUSTER_E     := 0.92 0.00
 CH5_WINDOW_STEPS  := 2
+# Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν (friction lowers it).
+CH4_FRICTION_NU   := 0.700 0.760 0.780
+CH4_FRICTION_E    := 0.50
+# μ = 0 shear runs at e = CH4_FRICTION_E bracketing the incline's bulk ν (0.81-0.83 at 10-14°).
+CH4_INCLINE_NU    := 0.810 0.825
+# Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
+# grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. TIMING: see README (gf-incline, quick size).
+INCLINE_WIDTH           := 40
+INCLINE_HEIGHT          := 25
+INCLINE_SEED            := 1
+INCLINE_E               := 0.50
+INCLINE_REFERENCE_ANGLE := 12
+INCLINE_ANGLES_MU0      := 10 12 14
+# μ = 0.4 incline runs are left to SIZE=paper: from the dilute start the frictional collapse
+# costs 818-2251 solver sweeps per step (tolerance 1e-7-1e-10; 6-11 % of the steps stop at
+# the sweep limit), 10-40x the frictionless flow: ~1 CPU hour per 400 τ run (measured at
+# 20° and 24°). Fig 4.10 (right) then shows the shear data only.
+INCLINE_ANGLES_MU04     :=
+INCLINE_CRITICAL_ANGLES := 5 7
+INCLINE_TIME            := 400
+INCLINE_TIME_STEP       := 5e-3
+INCLINE_FROM_TIME       := 200
+INCLINE_PROFILE_BLOCK   := 2000
+INCLINE_FRAME_EVERY     := 10000
+INCLINE_CRITICAL_WINDOW := 200
+INCLINE_BASE_SKIP       := 3
+INCLINE_SURFACE_SKIP    := 8

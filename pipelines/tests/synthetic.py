@@ -228,4 +228,96 @@ def write_clusters_table(path, run_paths, labels_per_run, side=10.0, rng=None):
         c["count"] = np.array([x.max() for x in labels_per_run], dtype=np.int64)
         c["first_step"] = np.zeros(len(run_paths), dtype=np.int64)
         c["last_step"] = np.ones(len(run_paths), dtype=np.int64)
+
+
+def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=0.7, nu=0.8, bin_diameters=3.0,
+                     gravity=1.0, mt_over_pr2=0.05, base_anomaly=0.1):
+    """Depth profiles of an ideal incline flow, in the gf-incline /profiles layout: ν constant,
+    V_x = V_s − c (H − y)^exponent, Σ_yy = g cos θ W and s = g sin θ W with W = ν (H − y)
+    (areal density 1), Σ_xx = Σ_yy, T = mt_over_pr2 · p ⟨R⟩²/m; the lowest layer's s/p and T
+    are off by base_anomaly (relative), the top layer is half full."""
+    d = 2 * mean_radius
+    mass = np.pi * mean_radius ** 2
+    bin_ = bin_diameters * d
+    height = height_diameters * d
+    bins = int(np.ceil(height / bin_))
+    y = (np.arange(bins) + 0.5) * bin_
+    depth = np.clip(height - y, 0.05 * bin_, None)
+    theta = np.radians(angle)
+    w = gravity * nu * depth
+    nu_profile = np.full(bins, nu)
+    nu_profile[-1] = 0.5 * nu
+    c = 0.3
+    v = c * (height ** exponent - depth ** exponent)
+    rate = c * exponent * depth ** (exponent - 1)
+    syy = np.cos(theta) * w
+    s = np.sin(theta) * w
+    s[0] *= 1 + base_anomaly
+    p = syy.copy()
+    t = mt_over_pr2 * p * mean_radius ** 2 / mass
+    t[0] *= 1 + base_anomaly
+    return {"y": y, "packing_fraction": nu_profile, "velocity_x": v, "shear_rate": rate, "temperature": t,
+            "pressure": p, "shear_stress": s, "stress_xx": syy.copy(), "stress_xy": -s, "stress_yy": syy,
+            "weight_above": w, "s_over_p": s / p, "inertial": rate * mean_radius / np.sqrt(t),
+            "mT_over_pR2": mass * t / (p * mean_radius ** 2), "_bin": bin_, "_height": height}
+
+
+def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.0, restitution=0.5,
+                      mean_radius=0.7, width_diameters=40.0, nu=0.8, height_diameters=25.0, gravity=1.0,
+                      time_step=5e-3, observe_every=10, steady=1, steady_from_tau=100.0, seed=1):
+    """A gf-incline trajectory with the parts the incline analyses read: /parameters,
+    /observables/flow_rate (given series, one row per observe_every steps), /profiles (given,
+    or bagnold_profiles) with its attributes, and two frames of grains (a base row and a layer)."""
+    rng = np.random.default_rng(seed)
+    d = 2 * mean_radius
+    mass = np.pi * mean_radius ** 2
+    tau = np.sqrt(mean_radius / gravity)
+    dt = time_step * tau
+    lx = width_diameters * d
+    if profiles is None:
+        profiles = bagnold_profiles(angle, mean_radius=mean_radius, nu=nu, height_diameters=height_diameters,
+                                    gravity=gravity)
+    grains = int(round(nu * lx * height_diameters * d / mass))
+    if flow_rate is None:
+        flow_rate = np.full(4000, 1.0) + 0.01 * rng.normal(size=4000)
+    flow_rate = np.asarray(flow_rate, dtype=float) * np.sqrt(gravity * mean_radius)
+    n = len(flow_rate)
+    steps = np.arange(1, n + 1) * observe_every
+    total_steps = int(steps[-1])
+    with h5py.File(path, "w") as f:
+        f.attrs["note"] = "synthetic gf-incline trajectory (tests)"
+        f.create_group("parameters").attrs.update({
+            "angle": float(angle), "friction": friction, "restitution": restitution, "tau": tau,
+            "gravity": gravity, "dt": dt, "total_steps": np.int64(total_steps), "grains": np.int64(grains),
+            "base_grains": np.int64(int(width_diameters)), "mean_radius": mean_radius, "mean_mass": mass,
+            "observe-every": np.int64(observe_every), "program": "gf-incline"})
+        obs = f.create_group("observables")
+        _element(obs, "flow_rate", flow_rate, steps, steps * dt)
+        g = f.create_group("profiles")
+        for k, v in profiles.items():
+            if not k.startswith("_"):
+                g.create_dataset(k, data=np.asarray(v, dtype=float))
+        g.attrs.update({"steady": np.int64(steady), "steady_from_given": np.int64(1),
+                        "steady_from_tau": steady_from_tau, "bin": float(profiles.get("_bin", 3 * d)),
+                        "layer_length": lx, "mean_radius": mean_radius, "mean_mass": mass, "gravity": gravity,
+                        "tau": tau})
+        base = int(width_diameters)
+        radius = np.full(base + 50, mean_radius)
+        fixed = np.zeros(len(radius), dtype=np.uint8)
+        fixed[:base] = 1
+        pos = np.zeros((2, len(radius), 2))
+        pos[:, :base, 0] = (np.arange(base) + 0.5) * lx / base
+        pos[:, base:, 0] = rng.uniform(0, lx, 50)
+        pos[:, base:, 1] = rng.uniform(d, height_diameters * d, 50)
+        vel = np.zeros_like(pos)
+        vel[:, base:, 0] = 0.1 * pos[:, base:, 1]
+        edges = np.tile(np.array([[lx, 0.0], [0.0, (height_diameters + 5) * d]]), (2, 1, 1))
+        frames = np.array([0, total_steps])
+        pg = f.create_group("particles/grains")
+        pg.create_dataset("radius", data=radius)
+        pg.create_dataset("mass", data=np.pi * radius ** 2)
+        pg.create_dataset("fixed", data=fixed)
+        _element(pg, "position", pos, frames, frames * dt)
+        _element(pg, "velocity", vel, frames, frames * dt)
+        _element(pg, "box/edges", edges, frames, frames * dt)
     return path

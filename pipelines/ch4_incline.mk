@@ -1,0 +1,74 @@
+# Chapter 4, incline flow (thesis §4.3–4.4, Figs 4.7–4.10, critical angle θ_c); grids and run
+# lengths in pipelines/sizes/$(SIZE).mk. Included after ch4.mk (uses shear_arg, CH4_ANALYSIS and
+# the sweep table $(RUNS)/ch4_sweep.h5, whose μ = 0.4 rows Fig 4.10 needs).
+#
+# Start: $(RUNS)/incline_pack_w<W>_h<H>_s<seed>.h5, gf-pack --incline (a dilute layer above a
+# base of fixed grains, W mean diameters wide, enough grains for H diameters at ν ≈ 0.8).
+# Runs: $(RUNS)/incline_th<θ>_e<e>_mu<μ>_s<seed>.h5, gf-incline at angle θ (degrees) from the
+# start of size INCLINE_WIDTH x INCLINE_HEIGHT and that seed, for INCLINE_TIME τ at
+# INCLINE_TIME_STEP τ (τ = √(⟨R⟩/g)); profiles averaged from INCLINE_FROM_TIME τ (empty: the
+# steady part detected by gf-incline, MSER). Any such name can be asked for. The time settings
+# are not in the names: after changing them remove the runs (clean-runs); a change of width or
+# height makes a new start and so re-runs.
+# Tables: $(RUNS)/ch4_incline.h5 (incline_bulk.py: bulk invariants, ν, momentum balance and the
+# V_x exponent per flowing run) and $(RUNS)/ch4_critical_angle.h5 (critical_angle.py: flowing or
+# not per angle, θ_c with its bracket). Figures: $(FIGURES)/fig4_7.png … fig4_10.png.
+
+# Fig 4.10 compares the incline with the shear sweep's rows at the incline's restitution.
+ifneq ($(strip $(CH4_FRICTION_E)),$(strip $(INCLINE_E)))
+$(warning CH4_FRICTION_E ($(CH4_FRICTION_E)) differs from INCLINE_E ($(INCLINE_E)): Fig 4.10 (μ = 0.4) will lack shear data)
+endif
+
+incline_pack = $(RUNS)/incline_pack_w$(INCLINE_WIDTH)_h$(INCLINE_HEIGHT)_s$(1).h5
+incline_run  = $(RUNS)/incline_th$(1)_e$(2)_mu$(3)_s$(4).h5
+# Flowing runs for the bulk rheology (Fig 4.10): every angle of each friction.
+INCLINE_FLOW_RUNS := $(foreach th,$(INCLINE_ANGLES_MU0),$(call incline_run,$(th),$(INCLINE_E),0.00,$(INCLINE_SEED))) \
+                     $(foreach th,$(INCLINE_ANGLES_MU04),$(call incline_run,$(th),$(INCLINE_E),0.40,$(INCLINE_SEED)))
+# θ_c sweep (μ = 0): the extra low angles and the flowing ones, each run once.
+INCLINE_CRITICAL_RUNS := $(sort $(foreach th,$(INCLINE_CRITICAL_ANGLES) $(INCLINE_ANGLES_MU0),\
+                           $(call incline_run,$(th),$(INCLINE_E),0.00,$(INCLINE_SEED))))
+# Figs 4.7–4.9: θ = INCLINE_REFERENCE_ANGLE (12°), μ = 0.
+INCLINE_REFERENCE_RUN := $(call incline_run,$(INCLINE_REFERENCE_ANGLE),$(INCLINE_E),0.00,$(INCLINE_SEED))
+INCLINE_TABLES    := $(RUNS)/ch4_incline.h5 $(RUNS)/ch4_critical_angle.h5
+INCLINE_FIGURES   := $(foreach k,7 8 9 10,$(FIGURES)/fig4_$(k).png)
+INCLINE_ANALYSIS  := pipelines/analysis/incline_bulk.py pipelines/granflow_h5.py pipelines/sizes/$(SIZE).mk
+INCLINE_BULK_ARGS := --base-skip $(INCLINE_BASE_SKIP) --surface-skip $(INCLINE_SURFACE_SKIP)
+
+ch4-files: $(INCLINE_FIGURES) $(INCLINE_TABLES)
+ch4-incline: build
+	+$(MAKE) -f $(SELF) ch4-incline-files
+ch4-incline-files: $(INCLINE_FIGURES) $(INCLINE_TABLES)
+
+# Stem "<W>_h<H>_s<seed>".
+$(RUNS)/incline_pack_w%.h5: $(STAMPS)/gf-pack.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-pack --quiet --incline --width $(call shear_arg,,1,$*) \
+	  --height $(call shear_arg,h,2,$*) --seed $(call shear_arg,s,3,$*) -o $@
+
+# Stem "<θ>_e<e>_mu<μ>_s<seed>".
+$(RUNS)/incline_th%.h5: $$(call incline_pack,$$(call shear_arg,s,4,$$*)) $(STAMPS)/gf-incline.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-incline --quiet -i $< -o $@ --angle $(call shear_arg,,1,$*) \
+	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
+	  --time $(INCLINE_TIME) --time-step $(INCLINE_TIME_STEP) --frame-every $(INCLINE_FRAME_EVERY) \
+	  --profile-block $(INCLINE_PROFILE_BLOCK) $(if $(INCLINE_FROM_TIME),--from-time $(INCLINE_FROM_TIME))
+
+$(RUNS)/ch4_incline.h5: $(INCLINE_FLOW_RUNS) $(INCLINE_ANALYSIS) | $(RUNS)/
+	$(PYTHON) pipelines/analysis/incline_bulk.py $(INCLINE_BULK_ARGS) -o $@ $(INCLINE_FLOW_RUNS)
+$(RUNS)/ch4_critical_angle.h5: $(INCLINE_CRITICAL_RUNS) pipelines/analysis/critical_angle.py $(INCLINE_ANALYSIS) \
+                               | $(RUNS)/
+	$(PYTHON) pipelines/analysis/critical_angle.py --window $(INCLINE_CRITICAL_WINDOW) -o $@ $(INCLINE_CRITICAL_RUNS)
+
+$(FIGURES)/fig4_7.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_snapshot.py pipelines/granflow_h5.py \
+                       | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch4_incline_snapshot.py $< $@
+$(FIGURES)/fig4_8.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_profiles.py $(INCLINE_ANALYSIS) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch4_incline_profiles.py $(INCLINE_BULK_ARGS) $< $@
+$(FIGURES)/fig4_9.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_invariants.py $(INCLINE_ANALYSIS) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch4_incline_invariants.py $(INCLINE_BULK_ARGS) $< $@
+$(FIGURES)/fig4_10.png: $(RUNS)/ch4_incline.h5 $(RUNS)/ch4_sweep.h5 pipelines/plot/ch4_consistent_rheology.py \
+                        $(INCLINE_ANALYSIS) $(CH4_ANALYSIS) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch4_consistent_rheology.py --restitution $(INCLINE_E) $(RUNS)/ch4_incline.h5 \
+	  $(RUNS)/ch4_sweep.h5 $@
+
+# The report's incline section.
+$(FIGURES)/REPORT.md: $(INCLINE_TABLES) $(INCLINE_REFERENCE_RUN) $(INCLINE_ANALYSIS) pipelines/analysis/critical_angle.py
+REPORT_ARGS += --ch4-incline $(RUNS)/ch4_incline.h5 --ch4-critical $(RUNS)/ch4_critical_angle.h5

@@ -1,0 +1,65 @@
+#!/usr/bin/env python3
+"""ch4_incline_invariants.py [--base-skip D] [--surface-skip D] RUN.h5 OUTPUT.png: thesis
+Fig. 4.9, the three Bagnold invariants s/p, γ̇⟨R⟩/√T and mT/(p⟨R⟩²) of one gf-incline run
+against the height above the base in mean diameters, with their bulk means (incline_bulk.py,
+shaded layers) and, for s/p, tan θ (what the momentum balance imposes when Σxx = Σyy)."""
+import argparse
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, ".."))
+sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+import incline_bulk as ib
+from granflow_h5 import save_figure
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--base-skip", type=float, default=3.0)
+    ap.add_argument("--surface-skip", type=float, default=8.0)
+    ap.add_argument("input")
+    ap.add_argument("output")
+    args = ap.parse_args()
+    try:
+        run = ib.read_run(args.input)
+        row = ib.analyse_run(run, args.base_skip, args.surface_skip)
+    except (OSError, KeyError, ValueError) as exc:
+        sys.exit(f"ch4_incline_invariants.py: {args.input}: {exc}")
+    prm, prof = run["parameters"], run["profiles"]
+    d = 2 * prm["mean_radius"]
+    y = prof["y"] / d
+    fig, axes = plt.subplots(3, 1, figsize=(6, 8), sharex=True)
+    for ax, name, label in zip(axes, ("s_over_p", "inertial", "mT_over_pR2"),
+                               ("$s/p$", r"$\dot\gamma\langle R\rangle/\sqrt{T}$", r"$mT/p\langle R\rangle^2$")):
+        ax.plot(y, prof[name], "o-", ms=4)
+        ax.axvspan(row["bulk_from"] / d - 0.5 * run["bin"] / d, row["bulk_to"] / d + 0.5 * run["bin"] / d,
+                   color="0.9", zorder=0)
+        if row["flowing"]:
+            ax.axhline(row[name], color="k", ls="--", lw=0.8,
+                       label=f"bulk {row[name]:.4g} ± {row[name + '_error']:.2g}")
+        if name == "s_over_p":
+            ax.axhline(math.tan(math.radians(prm["angle"])), color="tab:red", ls=":", lw=1,
+                       label=r"$\tan\theta$")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=8)
+        finite = prof[name][(y > 0.5) & (y < row["surface_height"] / d)]
+        if len(finite):
+            lo, hi = min(finite.min(), row[name] if row["flowing"] else finite.min()), finite.max()
+            ax.set_ylim(lo - 0.2 * (hi - lo + 1e-3), hi + 0.2 * (hi - lo + 1e-3))
+    axes[-1].set_xlabel("height y above the base (mean diameters)")
+    fig.suptitle(f"Thesis Fig. 4.9: Bagnold invariants, θ = {prm['angle']:g}°, μ = {prm['friction']:g}, "
+                 f"e = {prm['restitution']:g}\n(shaded: bulk layers; layers above the surface H = "
+                 f"{row['surface_height'] / d:.1f} diameters off scale)", fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, args.output)
+
+
+if __name__ == "__main__":
+    main()
