@@ -228,6 +228,7 @@ def write_clusters_table(path, run_paths, labels_per_run, side=10.0, rng=None):
         c["count"] = np.array([x.max() for x in labels_per_run], dtype=np.int64)
         c["first_step"] = np.zeros(len(run_paths), dtype=np.int64)
         c["last_step"] = np.ones(len(run_paths), dtype=np.int64)
+    return path
 
 
 def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=0.7, nu=0.8, bin_diameters=3.0,
