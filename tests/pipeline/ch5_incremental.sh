@@ -20,7 +20,8 @@ cd "$work"
 # compiles ~30 % faster; the tiny sweep does not need speed, and the stamps hash whatever
 # machine code there is). Configuring first makes Makefile.sweeps keep this cache.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O0 -DNDEBUG" >/dev/null
-M=(make --no-print-directory -f Makefile.sweeps SIZE=test "BUILD_TARGETS=gf-pack gf-shear gf-correlate")
+M=(make --no-print-directory -f Makefile.sweeps SIZE=test "BUILD_TARGETS=gf-pack gf-shear gf-correlate"
+   "PROGRAMS=gf-pack gf-shear gf-correlate")
 fail() { echo "FAIL: $*" >&2; exit 1; }
 up_to_date() { "${M[@]}" -q ch5-files; }
 mtimes() { stat -c '%n %Y' "$@"; }
