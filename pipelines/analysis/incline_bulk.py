@@ -167,6 +167,23 @@ def analyse_run(run, base_skip, surface_skip):
     return row
 
 
+def plot_input(doc, prog):
+    """The command line of a one-run incline figure script (RUN.h5 OUTPUT.png, --base-skip,
+    --surface-skip): returns (args, run, analysed row), or exits naming the run."""
+    ap = argparse.ArgumentParser(description=doc)
+    ap.add_argument("--base-skip", type=float, default=3.0)
+    ap.add_argument("--surface-skip", type=float, default=8.0)
+    ap.add_argument("input")
+    ap.add_argument("output")
+    args = ap.parse_args()
+    try:
+        run = read_run(args.input)
+        row = analyse_run(run, args.base_skip, args.surface_skip)
+    except (OSError, KeyError, ValueError) as exc:
+        sys.exit(f"{prog}: {args.input}: {exc}")
+    return args, run, row
+
+
 def sha256(path):
     h = hashlib.sha256()
     with open(path, "rb") as fh:

@@ -3,7 +3,6 @@
 Fig. 4.9, the three Bagnold invariants s/p, γ̇⟨R⟩/√T and mT/(p⟨R⟩²) of one gf-incline run
 against the height above the base in mean diameters, with their bulk means (incline_bulk.py,
 shaded layers) and, for s/p, tan θ (what the momentum balance imposes when Σxx = Σyy)."""
-import argparse
 import math
 import os
 import sys
@@ -21,17 +20,7 @@ from granflow_h5 import save_figure
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--base-skip", type=float, default=3.0)
-    ap.add_argument("--surface-skip", type=float, default=8.0)
-    ap.add_argument("input")
-    ap.add_argument("output")
-    args = ap.parse_args()
-    try:
-        run = ib.read_run(args.input)
-        row = ib.analyse_run(run, args.base_skip, args.surface_skip)
-    except (OSError, KeyError, ValueError) as exc:
-        sys.exit(f"ch4_incline_invariants.py: {args.input}: {exc}")
+    args, run, row = ib.plot_input(__doc__, "ch4_incline_invariants.py")
     prm, prof = run["parameters"], run["profiles"]
     d = 2 * prm["mean_radius"]
     y = prof["y"] / d

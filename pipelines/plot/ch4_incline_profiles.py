@@ -8,7 +8,6 @@ balance g cos θ W and g sin θ W (eq. 4.8–4.9, W the mass above per unit leng
 Normalisation: the thesis' text normalises the stresses "by mg⟨R⟩⁻¹"; its caption writes
 p⟨R⟩²/mg, which is not dimensionless for a 2D stress (force per length): we follow the text.
 The bulk layers (incline_bulk.py) are shaded."""
-import argparse
 import math
 import os
 import sys
@@ -27,17 +26,7 @@ from granflow_h5 import save_figure
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--base-skip", type=float, default=3.0)
-    ap.add_argument("--surface-skip", type=float, default=8.0)
-    ap.add_argument("input")
-    ap.add_argument("output")
-    args = ap.parse_args()
-    try:
-        run = ib.read_run(args.input)
-        row = ib.analyse_run(run, args.base_skip, args.surface_skip)
-    except (OSError, KeyError, ValueError) as exc:
-        sys.exit(f"ch4_incline_profiles.py: {args.input}: {exc}")
+    args, run, row = ib.plot_input(__doc__, "ch4_incline_profiles.py")
     prm, prof = run["parameters"], run["profiles"]
     r, m, g = prm["mean_radius"], prm["mean_mass"], prm["gravity"]
     d = 2 * r
