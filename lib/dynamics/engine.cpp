@@ -602,8 +602,9 @@ void Engine::solve_clusters() {
   for (int k = 0; k < clusters; ++k) solve_cluster(k, cluster_scratch_[omp_get_thread_num()]);
 }
 
-// The solve of cluster k (see solve_clusters()). Returns false, changing nothing, when its
-// factor would be too large to pay off or its result would not lower the residual.
+// The solve of cluster k (see solve_clusters()). Returns false when its factor would be too
+// large to pay off (nothing changed) or its result was undone (impulses restored exactly,
+// velocities up to round-off).
 bool Engine::solve_cluster(int k, ClusterScratch& w) {
   auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   const int* members = cluster_rows_.data() + cluster_start_[k];
