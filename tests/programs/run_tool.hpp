@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -115,6 +117,24 @@ inline void expect_refused(const std::string& tool, const BadInput& c,
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
   EXPECT_EQ(dir.entries(), 0) << "output, partial file or checkpoint left behind";
+}
+
+}  // namespace granflow::testing
+
+namespace granflow::testing {
+
+// The output of `gf-pack ARGS`, made once per test program under `name` and shared by its
+// tests (removed at exit).
+inline const std::string& packed_once(const std::string& name, const std::string& args) {
+  static std::map<std::string, std::pair<std::unique_ptr<ScratchDir>, std::string>> made;
+  auto it = made.find(name);
+  if (it == made.end()) {
+    auto dir = std::make_unique<ScratchDir>(name);
+    const std::string path = *dir / "pack.h5";
+    EXPECT_EQ(run_tool("gf-pack", args + " --quiet -o " + path).exit_code, 0);
+    it = made.emplace(name, std::make_pair(std::move(dir), path)).first;
+  }
+  return it->second.second;
 }
 
 }  // namespace granflow::testing

@@ -126,15 +126,7 @@ std::string string_attribute(const std::string& file, const std::string& object,
 }
 
 // One packing shared by the tests of this file.
-const std::string& packing() {
-  static ScratchDir dir("correlate_packing");
-  static std::string path = [] {
-    std::string p = dir / "pack.h5";
-    EXPECT_EQ(run_tool("gf-pack", "--grains 150 --packing-fraction 0.78 --seed 2 --quiet -o " + p).exit_code, 0);
-    return p;
-  }();
-  return path;
-}
+const std::string& packing() { return packed_once("correlate_packing", "--grains 150 --packing-fraction 0.78 --seed 2"); }
 
 }  // namespace
 

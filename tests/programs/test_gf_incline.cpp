@@ -17,15 +17,7 @@ namespace io = granflow::io;
 
 namespace {
 // One incline start shared by the tests of this file.
-const std::string& packing() {
-  static ScratchDir dir("incline_packing");
-  static std::string path = [] {
-    std::string p = dir / "incline.h5";
-    EXPECT_EQ(run_tool("gf-pack", "--incline --width 10 --height 5 --seed 3 --quiet -o " + p).exit_code, 0);
-    return p;
-  }();
-  return path;
-}
+const std::string& packing() { return packed_once("incline_packing", "--incline --width 10 --height 5 --seed 3"); }
 
 const std::string kRun = "--angle 20 --profile-block 500 --frame-every 500 --quiet";
 

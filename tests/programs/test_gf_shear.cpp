@@ -15,15 +15,7 @@ namespace io = granflow::io;
 
 namespace {
 // One packing shared by the tests of this file.
-const std::string& packing() {
-  static ScratchDir dir("shear_packing");
-  static std::string path = [] {
-    std::string p = dir / "pack.h5";
-    EXPECT_EQ(run_tool("gf-pack", "--grains 200 --packing-fraction 0.7 --seed 3 --quiet -o " + p).exit_code, 0);
-    return p;
-  }();
-  return path;
-}
+const std::string& packing() { return packed_once("shear_packing", "--grains 200 --packing-fraction 0.7 --seed 3"); }
 
 void expect_same_frame(const io::Frame& a, const io::Frame& b, const std::string& what) {
   ASSERT_EQ(a.position.size(), b.position.size()) << what;
