@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <ostream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -83,6 +85,19 @@ inline int wait_exit_code(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Starts a program writing `output`, sends it `signal` `settle_ms` after its temporary
+// .NAME.part appears, and returns its exit code (0: it finished before the signal).
+inline int interrupted_run(const std::string& name, const std::string& args, const std::filesystem::path& output,
+                           const std::string& log, int settle_ms, int signal = SIGINT) {
+  const pid_t pid = start_tool(name, args, log);
+  const auto partial = output.parent_path() / ("." + output.filename().string() + ".part");
+  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(settle_ms));
+  ::kill(pid, signal);
+  return wait_exit_code(pid);
 }
 
 }  // namespace granflow::testing

@@ -44,13 +44,8 @@ TEST(GfInclineResume, InterruptedAndResumedEqualsUninterrupted) {
   ASSERT_EQ(ref_run.exit_code, 0) << ref_run.err;
 
   const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
-  pid_t pid = start_tool("gf-incline", args, dir / "log1");
   const std::string partial = dir / ".cut.h5.part";
-  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ::kill(pid, SIGINT);
-  const int code = wait_exit_code(pid);
+  const int code = interrupted_run("gf-incline", args, dir / "cut.h5", dir / "log1", 100);
   if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
   ASSERT_EQ(code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "cut.h5")) << "an interrupted run left a finished-looking output";

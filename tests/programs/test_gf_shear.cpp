@@ -41,13 +41,8 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
   ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
 
   const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
-  pid_t pid = start_tool("gf-shear", args, dir / "log1");
   const std::string partial = dir / ".cut.h5.part";
-  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGINT);
-  const int code = wait_exit_code(pid);
+  const int code = interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log1", 300);
   if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
   ASSERT_EQ(code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "cut.h5")) << "an interrupted run left a finished-looking output";
@@ -72,12 +67,7 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
 TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
   ScratchDir dir("shear_resume_other");
   const std::string args = "-i " + packing() + " --steps 20000 " + kRun + " -o " + (dir / "cut.h5");
-  pid_t pid = start_tool("gf-shear", args, dir / "log");
-  for (int k = 0; k < 200 && !std::filesystem::exists(dir / ".cut.h5.part"); ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ::kill(pid, SIGTERM);
-  if (wait_exit_code(pid) != 1) GTEST_SKIP() << "the run finished before it could be interrupted";
+  if (interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log", 100, SIGTERM) != 1) GTEST_SKIP() << "the run finished before it could be interrupted";
   auto r = run_tool("gf-shear", args + " --friction 0.1 --resume");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("other options"), std::string::npos) << r.err;
