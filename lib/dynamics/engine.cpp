@@ -144,17 +144,22 @@ void Engine::detect(bool moved) {
   if (threads == 1) {
     overlap = select_candidates(0, pairs_.size(), candidates_);
   } else {
-    // Blocks of pairs filtered in parallel, then joined in order.
+    // Blocks of pairs filtered in parallel, each into its thread's buffer, and appended in
+    // order as soon as the blocks before it are: only one block per thread is held twice.
     constexpr std::size_t block = 8192;
-    candidate_blocks_.resize((pairs_.size() + block - 1) / block);
-    const std::ptrdiff_t blocks = std::ptrdiff_t(candidate_blocks_.size());
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : overlap)
-    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-      candidate_blocks_[b].clear();
-      overlap = std::max(overlap, select_candidates(b * block, std::min(pairs_.size(), (b + 1) * block),
-                                                    candidate_blocks_[b]));
+    const std::ptrdiff_t blocks = std::ptrdiff_t((pairs_.size() + block - 1) / block);
+    candidate_blocks_.resize(threads);
+#pragma omp parallel num_threads(threads) reduction(max : overlap)
+    {
+      std::vector<Candidate>& found = candidate_blocks_[omp_get_thread_num()];
+#pragma omp for ordered schedule(static, 1)
+      for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+        found.clear();
+        overlap = std::max(overlap, select_candidates(b * block, std::min(pairs_.size(), (b + 1) * block), found));
+#pragma omp ordered
+        candidates_.insert(candidates_.end(), found.begin(), found.end());
+      }
     }
-    for (const auto& found : candidate_blocks_) candidates_.insert(candidates_.end(), found.begin(), found.end());
   }
   // Growth by doubling (past last + last/8) leaves up to half unused.
   if (candidates_.capacity() > candidates_.size() + candidates_.size() / 2 + 64) candidates_.shrink_to_fit();
@@ -388,6 +393,9 @@ inline double correction(const Row& r, const Local& l) {
 // undo none there.
 constexpr double kClusterSolveGrowth = 100;
 
+// Clusters of at least this many active rows are factorised by all threads together.
+constexpr int kSharedClusterRows = 2000;
+
 }  // namespace
 
 // The rows the sweeps visit: contacts carrying a warm-start impulse and pairs whose normal
@@ -542,48 +550,67 @@ double Engine::check(bool everywhere) {
 // Clusters share no mobile grain, so threads take them in any order.
 void Engine::solve_clusters() {
   const int n = int(bodies_.size());
-  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
-  // Clusters of the active rows (all in the working set), by union–find over bodies.
-  active_.clear();
-  for (int c : work_)
-    if (rows_[c].pn > 0) active_.push_back(c);
+  // The active rows (all in the working set) with their mobile bodies (−1 for a fixed one,
+  // which couples nothing), read once: the passes below touch only this compact copy.
+  // Gathered by chunks of the working set, counted then written in parallel.
+  const int threads = settings_.threads;
+  constexpr std::ptrdiff_t chunk = 4096;
+  const std::ptrdiff_t listed = std::ptrdiff_t(work_.size()), chunks = (listed + chunk - 1) / chunk;
+  chunk_start_.assign(chunks + 1, 0);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    int found = 0;
+    for (std::ptrdiff_t q = h * chunk; q < std::min(listed, (h + 1) * chunk); ++q) found += rows_[work_[q]].pn > 0;
+    chunk_start_[h + 1] = found;
+  }
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start_[h + 1] += chunk_start_[h];
+  fit_capacity(active_, chunk_start_[chunks]);
+  active_.resize(chunk_start_[chunks]);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    std::size_t a = chunk_start_[h];
+    for (std::ptrdiff_t q = h * chunk; q < std::min(listed, (h + 1) * chunk); ++q) {
+      const Row& r = rows_[work_[q]];
+      if (r.pn > 0)
+        active_[a++] = {work_[q], bodies_[r.i].inv_mass > 0 ? r.i : -1, bodies_[r.j].inv_mass > 0 ? r.j : -1, 0};
+    }
+  }
+  // Clusters by union–find over bodies; a row's cluster is that of one of its mobile bodies.
   cluster_.resize(n);
   for (int b = 0; b < n; ++b) cluster_[b] = b;
   auto root = [&](int b) {
     while (cluster_[b] != b) b = cluster_[b] = cluster_[cluster_[b]];
     return b;
   };
-  for (int c : active_) {
-    const Row& r = rows_[c];
-    if (mobile(r.i) && mobile(r.j)) {
-      const int a = root(r.i), b = root(r.j);
-      if (a != b) cluster_[std::max(a, b)] = std::min(a, b);
+  for (const ActiveRow& a : active_)
+    if (a.i >= 0 && a.j >= 0) {
+      const int x = root(a.i), y = root(a.j);
+      if (x != y) cluster_[std::max(x, y)] = std::min(x, y);
     }
-  }
-  // A row belongs to the cluster of a mobile body of it (a fixed body couples nothing).
   // Hot clusters are numbered in order of appearance; cluster_id_ per root: −2 cold, −1 hot.
-  auto cluster_of = [&](const Row& r) { return root(mobile(r.i) ? r.i : r.j); };
   cluster_id_.assign(n, -2);
-  for (int c : active_)
-    if (hot_[c]) cluster_id_[cluster_of(rows_[c])] = -1;
+  for (ActiveRow& a : active_) {
+    a.cluster = root(a.i >= 0 ? a.i : a.j);
+    if (hot_[a.c]) cluster_id_[a.cluster] = -1;
+  }
   int clusters = 0;
   std::size_t kept = 0;
-  for (int c : active_) {
-    int& id = cluster_id_[cluster_of(rows_[c])];
+  for (ActiveRow a : active_) {
+    int& id = cluster_id_[a.cluster];
     if (id == -2) continue;
     if (id == -1) id = clusters++;
-    active_[kept++] = c;
+    a.cluster = id;
+    active_[kept++] = a;
   }
   active_.resize(kept);
 
   // The rows of each cluster (in sweep order), and of each mobile body.
   cluster_start_.assign(clusters + 1, 0);
   body_start_.assign(n + 1, 0);
-  for (int c : active_) {
-    const Row& r = rows_[c];
-    ++cluster_start_[cluster_id_[cluster_of(r)] + 1];
-    if (mobile(r.i)) ++body_start_[r.i + 1];
-    if (mobile(r.j)) ++body_start_[r.j + 1];
+  for (const ActiveRow& a : active_) {
+    ++cluster_start_[a.cluster + 1];
+    if (a.i >= 0) ++body_start_[a.i + 1];
+    if (a.j >= 0) ++body_start_[a.j + 1];
   }
   for (int k = 0; k < clusters; ++k) cluster_start_[k + 1] += cluster_start_[k];
   for (int b = 0; b < n; ++b) body_start_[b + 1] += body_start_[b];
@@ -591,23 +618,33 @@ void Engine::solve_clusters() {
   refill(body_rows_, body_start_[n]);
   bucket_.assign(cluster_start_.begin(), cluster_start_.end() - 1);
   degree_.assign(n, 0);  // ends as the number of rows at each body
-  for (int c : active_) {
-    const Row& r = rows_[c];
-    cluster_rows_[bucket_[cluster_id_[cluster_of(r)]]++] = c;
-    for (int b : {r.i, r.j})
-      if (mobile(b)) body_rows_[body_start_[b] + degree_[b]++] = c;
+  for (const ActiveRow& a : active_) {
+    cluster_rows_[bucket_[a.cluster]++] = a.c;
+    if (a.i >= 0) body_rows_[body_start_[a.i] + degree_[a.i]++] = a.c;
+    if (a.j >= 0) body_rows_[body_start_[a.j] + degree_[a.j]++] = a.c;
   }
 
-  const int threads = settings_.threads;
+  // Small clusters go to the threads whole; large ones, one after the other, share the
+  // threads inside their factorisation (the percolating cluster would keep one thread busy
+  // while the others wait). Both give the same result.
   cluster_scratch_.resize(threads);
+  large_.clear();
+  for (int k = 0; k < clusters; ++k) {
+    const int rows = cluster_start_[k + 1] - cluster_start_[k];
+    report_.largest_cluster = std::max(report_.largest_cluster, rows);
+    if (rows >= kSharedClusterRows) large_.push_back(k);
+  }
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)
-  for (int k = 0; k < clusters; ++k) solve_cluster(k, cluster_scratch_[omp_get_thread_num()]);
+  for (int k = 0; k < clusters; ++k)
+    if (cluster_start_[k + 1] - cluster_start_[k] < kSharedClusterRows)
+      solve_cluster(k, cluster_scratch_[omp_get_thread_num()], 1);
+  for (int k : large_) solve_cluster(k, cluster_scratch_[0], threads);
 }
 
 // The solve of cluster k (see solve_clusters()). Returns false when its factor would be too
 // large to pay off (nothing changed) or its result was undone (impulses restored exactly,
 // velocities up to round-off).
-bool Engine::solve_cluster(int k, ClusterScratch& w) {
+bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
   auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   const int* members = cluster_rows_.data() + cluster_start_[k];
   const int m = cluster_start_[k + 1] - cluster_start_[k];
@@ -641,8 +678,8 @@ bool Engine::solve_cluster(int k, ClusterScratch& w) {
   // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
   // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
   auto factor = [&](std::size_t fill) {
-    assemble_cluster(w);
-    return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64);
+    assemble_cluster(w, threads);
+    return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
   };
   bool factored = factor(4);
   if (!factored && peeled < m) {
@@ -657,7 +694,7 @@ bool Engine::solve_cluster(int k, ClusterScratch& w) {
     // its equations can be inconsistent and near-singular: the solve then returns huge
     // self-stresses whose clamping at P_n = 0 would throw the velocities off by orders of
     // magnitude. (A good step may raise the correction a little: the clamping.)
-    const double before = cluster_residual(w);
+    const double before = cluster_residual(w, threads);
     for (int u = 0; u < m; ++u) {
       Row& r = rows_[w.order[u]];
       const double pn = std::max(0.0, r.pn + w.rhs[u]);
@@ -665,7 +702,7 @@ bool Engine::solve_cluster(int k, ClusterScratch& w) {
       apply_normal_impulse(r, pn - r.pn);
       r.pn = pn;
     }
-    accepted = cluster_residual(w) <= kClusterSolveGrowth * before;  // false for NaN too
+    accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
     if (!accepted)
       for (int u = m - 1; u >= 0; --u) {
         Row& r = rows_[w.order[u]];
@@ -689,10 +726,12 @@ void Engine::apply_normal_impulse(const Row& r, double dpn) {
 }
 
 // Largest velocity correction a local solve would make on the cluster's rows (μ = 0).
-double Engine::cluster_residual(const ClusterScratch& w) const {
+double Engine::cluster_residual(const ClusterScratch& w, int threads) const {
+  const std::ptrdiff_t m = std::ptrdiff_t(w.order.size());
   double worst = 0;
-  for (int c : w.order) {
-    const Row& r = rows_[c];
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(max : worst)
+  for (std::ptrdiff_t u = 0; u < m; ++u) {
+    const Row& r = rows_[w.order[u]];
     worst = std::max(worst, correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], 0.0)));
   }
   return worst;
@@ -701,13 +740,13 @@ double Engine::cluster_residual(const ClusterScratch& w) const {
 // The cluster's matrix, upper triangle by columns in unknown order, and right-hand side:
 // W_ab = Σ over the mobile bodies shared by rows a and b of s_a·s_b·(n̂_a·n̂_b)/m, with
 // s = +1 for the body of grain i, −1 for that of grain j; b_a − u_a at the current velocities.
-void Engine::assemble_cluster(ClusterScratch& w) const {
+// With threads, columns are counted, then filled in parallel (same entries, same order).
+void Engine::assemble_cluster(ClusterScratch& w, int threads) const {
   const int m = int(w.order.size());
   w.start.assign(m + 1, 0);
-  w.row.clear();
-  w.value.clear();
   w.rhs.resize(m);
-  for (int u = 0; u < m; ++u) {
+  // Calls emit(row, value) for each entry of column u, top to bottom as found; sets rhs[u].
+  auto column = [&](int u, auto&& emit) {
     const Row& a = rows_[w.order[u]];
     const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
     w.rhs[u] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
@@ -720,11 +759,36 @@ void Engine::assemble_cluster(ClusterScratch& w) const {
         if (other > u) continue;
         const Row& b = rows_[body_rows_[p]];
         const double sb = body == b.i ? 1.0 : -1.0;
-        w.row.push_back(other);
-        w.value.push_back(sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
+        emit(other, sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
       }
     }
-    w.start[u + 1] = int(w.row.size());
+  };
+  if (threads <= 1) {
+    w.row.clear();
+    w.value.clear();
+    for (int u = 0; u < m; ++u) {
+      column(u, [&](int other, double value) {
+        w.row.push_back(other);
+        w.value.push_back(value);
+      });
+      w.start[u + 1] = int(w.row.size());
+    }
+    return;
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int u = 0; u < m; ++u) column(u, [&](int, double) { ++w.start[u + 1]; });
+  for (int u = 0; u < m; ++u) w.start[u + 1] += w.start[u];
+  fit_capacity(w.row, w.start[m]);
+  fit_capacity(w.value, w.start[m]);
+  w.row.resize(w.start[m]);
+  w.value.resize(w.start[m]);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int u = 0; u < m; ++u) {
+    int q = w.start[u];
+    column(u, [&](int other, double value) {
+      w.row[q] = other;
+      w.value[q++] = value;
+    });
   }
 }
 
@@ -760,6 +824,7 @@ void Engine::solve() {
   rep.iterations = 0;
   rep.contact_updates = 0;
   rep.cluster_solves = 0;
+  rep.largest_cluster = 0;
   rep.residual = 0;
   rep.converged = true;
   if (rows_.empty()) return;
@@ -803,50 +868,65 @@ void Engine::solve() {
   ++unconverged_;
 }
 
-// Contacts of this step, from the impulses and the (still unchanged) pre-step state.
+// Contacts of this step, from the impulses and the (still unchanged) pre-step state, in
+// candidate order: counted by chunks, then written in parallel at their places.
 void Engine::record_contacts() {
-  records_.clear();
-  prev_key_.clear();
-  prev_fn_.clear();
-  prev_ft_.clear();
-  prev_age_.clear();
-  std::size_t contacts = 0;
-  for (const Row& r : rows_) contacts += r.pn > 0;
-  fit_capacity(records_.pair, contacts);
-  fit_capacity(records_.normal_force, contacts);
-  fit_capacity(records_.tangential_force, contacts);
-  fit_capacity(records_.branch, contacts);
-  fit_capacity(records_.binary_force, contacts);
-  fit_capacity(records_.pre_normal_velocity, contacts);
-  fit_capacity(records_.age, contacts);
-  fit_capacity(prev_key_, contacts);
-  fit_capacity(prev_fn_, contacts);
-  fit_capacity(prev_ft_, contacts);
-  fit_capacity(prev_age_, contacts);
+  constexpr std::ptrdiff_t chunk = 4096;
+  const std::ptrdiff_t count = std::ptrdiff_t(candidates_.size()), chunks = (count + chunk - 1) / chunk;
+  const int threads = settings_.threads;
+  chunk_start_.assign(chunks + 1, 0);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    int found = 0;
+    for (std::ptrdiff_t c = h * chunk; c < std::min(count, (h + 1) * chunk); ++c) found += rows_[row_of_[c]].pn > 0;
+    chunk_start_[h + 1] = found;
+  }
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start_[h + 1] += chunk_start_[h];
+  const std::size_t contacts = chunk_start_[chunks];
+  auto fit = [&](auto& v) {
+    fit_capacity(v, contacts);
+    v.resize(contacts);
+  };
+  fit(records_.pair);
+  fit(records_.normal_force);
+  fit(records_.tangential_force);
+  fit(records_.branch);
+  fit(records_.binary_force);
+  fit(records_.pre_normal_velocity);
+  fit(records_.age);
+  fit(prev_key_);
+  fit(prev_fn_);
+  fit(prev_ft_);
+  fit(prev_age_);
   const double e = material_.restitution;
-  for (std::size_t c = 0; c < candidates_.size(); ++c) {
-    const Row& r = rows_[row_of_[c]];
-    if (!(r.pn > 0)) continue;
-    const Candidate& k = candidates_[c];
-    const int i = k.i, j = k.j;
-    const int age = row_age_[c] + 1;
-    const Vec2 n(r.nx, r.ny);
-    const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
-    const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
-    const double shift = k.image * rate_ * box_.ly;
-    const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
-    records_.pair.push_back({i, j});
-    const double fn = r.pn / dt_, ft = r.pt / dt_;
-    records_.normal_force.push_back(fn);
-    records_.tangential_force.push_back(ft);
-    records_.branch.emplace_back(k.dx, k.dy);
-    records_.binary_force.push_back((1 + e) * r.inv_w * std::max(0.0, -un) / dt_);
-    records_.pre_normal_velocity.push_back({vi.dot(n), vj.dot(n)});
-    records_.age.push_back(age);
-    prev_key_.push_back(pair_key(i, j));
-    prev_fn_.push_back(fn);
-    prev_ft_.push_back(ft);
-    prev_age_.push_back(age);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    std::size_t q = chunk_start_[h];
+    for (std::ptrdiff_t c = h * chunk; c < std::min(count, (h + 1) * chunk); ++c) {
+      const Row& r = rows_[row_of_[c]];
+      if (!(r.pn > 0)) continue;
+      const Candidate& k = candidates_[c];
+      const int i = k.i, j = k.j;
+      const int age = row_age_[c] + 1;
+      const Vec2 n(r.nx, r.ny);
+      const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
+      const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
+      const double shift = k.image * rate_ * box_.ly;
+      const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
+      const double fn = r.pn / dt_, ft = r.pt / dt_;
+      records_.pair[q] = {i, j};
+      records_.normal_force[q] = fn;
+      records_.tangential_force[q] = ft;
+      records_.branch[q] = Vec2(k.dx, k.dy);
+      records_.binary_force[q] = (1 + e) * r.inv_w * std::max(0.0, -un) / dt_;
+      records_.pre_normal_velocity[q] = {vi.dot(n), vj.dot(n)};
+      records_.age[q] = age;
+      prev_key_[q] = pair_key(i, j);
+      prev_fn_[q] = fn;
+      prev_ft_[q] = ft;
+      prev_age_[q] = age;
+      ++q;
+    }
   }
   report_.candidates = int(rows_.size());
   report_.contacts = int(records_.size());
@@ -896,6 +976,11 @@ const StepReport& Engine::step() {
 }
 
 
+void Engine::set_threads(int threads) {
+  if (threads < 1) throw UsageError("threads must be at least 1");
+  settings_.threads = threads;
+}
+
 std::size_t Engine::allocated_bytes() const {
   const GrainState& s = state_;
   const ContactRecords& r = records_;
@@ -908,7 +993,7 @@ std::size_t Engine::allocated_bytes() const {
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
          bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(row_of_) + bytes(row_strip_) + bytes(bodies_) +
          bytes(rows_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(hot_) +
-         bytes(moved_) + bytes(active_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
+         bytes(moved_) + bytes(active_) + bytes(large_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
          bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
          bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +

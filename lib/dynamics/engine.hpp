@@ -89,6 +89,7 @@ struct StepReport {
   int contacts = 0;            // pairs with P_n > 0
   std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
   int cluster_solves = 0;      // passes of exact solves of frictionless clusters
+  int largest_cluster = 0;     // active rows of the largest cluster solved exactly
   bool pairs_rebuilt = false;  // the pair list was rebuilt for the next step
   double max_overlap = 0;      // max(0, −g) over all pairs after the position update
 };
@@ -128,6 +129,9 @@ class Engine {
   double time() const { return double(steps_) * dt_; }
   double alert_distance() const { return alert_; }
   std::int64_t unconverged_steps() const { return unconverged_; }
+
+  // Threads for the following steps: any count gives the same trajectory, bit for bit.
+  void set_threads(int threads);
 
   // Heap bytes held by the engine (grain state, pair list, solver, records).
   std::size_t allocated_bytes() const;
@@ -170,10 +174,10 @@ class Engine {
   double check(bool everywhere);
   struct ClusterScratch;
   void solve_clusters();
-  bool solve_cluster(int k, ClusterScratch& w);
-  void assemble_cluster(ClusterScratch& w) const;
+  bool solve_cluster(int k, ClusterScratch& w, int threads);
+  void assemble_cluster(ClusterScratch& w, int threads) const;
   void order_loops(ClusterScratch& w, int first);
-  double cluster_residual(const ClusterScratch& w) const;
+  double cluster_residual(const ClusterScratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
   void record_contacts();
   void store_bodies();
@@ -215,7 +219,14 @@ class Engine {
 
   // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
   // and by body, rows per body left to peel, and each row's unknown in its cluster (−1 if none).
-  std::vector<int> active_, cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
+  struct ActiveRow {
+    int c, i, j;  // row, its mobile bodies (−1: fixed)
+    int cluster;  // root of its cluster, then the cluster's number
+  };
+  std::vector<ActiveRow> active_;
+  std::vector<int> large_;  // clusters solved with all threads
+  std::vector<std::size_t> chunk_start_;  // first contact of each chunk of candidates
+  std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;
   // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
   // by columns), right-hand side and factor.

@@ -29,8 +29,4 @@ void add_affine_flow(GrainState& state, const Box& box, double rate) {
   }
 }
 
-Vec2 fluctuating_velocity(const GrainState& state, const Box& box, double rate, std::size_t i) {
-  return state.velocity[i] - streaming_velocity(box, rate, state.position[i].y());
-}
-
 }  // namespace granflow

@@ -52,6 +52,8 @@ inline Vec2 streaming_velocity(const Box& box, double rate, double y) {
 void add_affine_flow(GrainState& state, const Box& box, double rate);
 
 // ṽ_i = v_i − γ̇(y_i − Ly/2)·x̂.
-Vec2 fluctuating_velocity(const GrainState& state, const Box& box, double rate, std::size_t i);
+inline Vec2 fluctuating_velocity(const GrainState& state, const Box& box, double rate, std::size_t i) {
+  return state.velocity[i] - streaming_velocity(box, rate, state.position[i].y());
+}
 
 }  // namespace granflow
