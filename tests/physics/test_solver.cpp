@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
 #include <cmath>
 #include <iostream>
 #include <vector>
@@ -91,6 +93,103 @@ TEST(SparseLdl, RefusesExcessiveFill) {
   const Upper u = upper(a);
   SparseLdl ldl;
   EXPECT_FALSE(ldl.factor(60, u.start, u.row, u.value, 1e-9, 100));
+}
+
+// Normal rows of the contacts of a 2D grid of grains (neighbours along x and y, and a
+// diagonal in a fraction of the cells: more rows than velocities, some redundant), W = H·Hᵀ
+// with random unit normals, reordered by approximate minimum degree as the engine orders large clusters: an
+// elimination tree with many branches, like a percolating cluster's.
+Upper grid_contacts(int side, double diagonals, std::uint64_t seed) {
+  Rng rng(seed);
+  std::vector<Eigen::Triplet<double>> h;
+  int rows = 0;
+  auto contact = [&](int a, int b) {
+    const double angle = rng.uniform(0, 2 * M_PI);
+    h.emplace_back(rows, 2 * a, std::cos(angle));
+    h.emplace_back(rows, 2 * a + 1, std::sin(angle));
+    h.emplace_back(rows, 2 * b, -std::cos(angle));
+    h.emplace_back(rows, 2 * b + 1, -std::sin(angle));
+    ++rows;
+  };
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const int g = y * side + x;
+      if (x + 1 < side) contact(g, g + 1);
+      if (y + 1 < side) contact(g, g + side);
+      if (x + 1 < side && y + 1 < side && rng.uniform(0, 1) < diagonals) contact(g, g + side + 1);
+    }
+  Eigen::SparseMatrix<double> hm(rows, 2 * side * side);
+  hm.setFromTriplets(h.begin(), h.end());
+  const Eigen::SparseMatrix<double> w = hm * hm.transpose();
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  Eigen::AMDOrdering<int>()(w, order);
+  Eigen::SparseMatrix<double> pw;
+  pw = w.twistedBy(order.inverse());
+  Upper u;
+  for (int k = 0; k < pw.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(pw, k); it; ++it)
+      if (it.row() <= k) {
+        u.row.push_back(int(it.row()));
+        u.value.push_back(it.value());
+      }
+    u.start.push_back(int(u.row.size()));
+  }
+  return u;
+}
+
+// The factorisation shared out among threads by subtrees of the elimination tree gives the
+// serial factor bit for bit (pinned rows included), and solves the system.
+TEST(SparseLdl, ThreadsGiveTheSerialFactor) {
+  const Upper u = grid_contacts(50, 0.125, 8);
+  const int n = int(u.start.size()) - 1;
+  ASSERT_GT(n, 4000);
+  std::vector<double> b(n);
+  Rng rng(9);
+  for (double& v : b) v = rng.normal();
+  std::vector<std::vector<double>> solutions;
+  std::vector<int> pinned;
+  for (int threads : {1, 2, 3}) {
+    SCOPED_TRACE(threads);
+    SparseLdl ldl;
+    ASSERT_TRUE(ldl.factor(n, u.start, u.row, u.value, 1e-9, 1 << 26, threads));
+    if (threads > 1) {
+      EXPECT_GT(ldl.shared_rows(), n / 2);  // most rows computed in parallel
+    }
+    pinned.push_back(ldl.pinned());
+    solutions.push_back(b);
+    ldl.solve(solutions.back());
+  }
+  EXPECT_GT(pinned[0], 0);  // the diagonals make some rows redundant
+  for (std::size_t t = 1; t < solutions.size(); ++t) {
+    EXPECT_EQ(pinned[t], pinned[0]);
+    EXPECT_EQ(solutions[t], solutions[0]);
+  }
+}
+
+// Without redundant rows the threads' factor solves the system to round-off.
+TEST(SparseLdl, ThreadsSolveTheSystem) {
+  const Upper u = grid_contacts(50, 0, 10);
+  const int n = int(u.start.size()) - 1;
+  Rng rng(11);
+  Eigen::SparseMatrix<double> a(n, n);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < n; ++k)
+    for (int p = u.start[k]; p < u.start[k + 1]; ++p) {
+      t.emplace_back(u.row[p], k, u.value[p]);
+      if (u.row[p] != k) t.emplace_back(k, u.row[p], u.value[p]);
+    }
+  a.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd x0(n);
+  for (int k = 0; k < n; ++k) x0(k) = rng.normal();
+  const Eigen::VectorXd rhs = a * x0;
+  SparseLdl ldl;
+  ASSERT_TRUE(ldl.factor(n, u.start, u.row, u.value, 1e-9, 1 << 26, 2));
+  EXPECT_GT(ldl.shared_rows(), n / 2);
+  EXPECT_EQ(ldl.pinned(), 0);
+  std::vector<double> x(rhs.data(), rhs.data() + n);
+  ldl.solve(x);
+  const Eigen::VectorXd solution = Eigen::Map<Eigen::VectorXd>(x.data(), n);
+  EXPECT_LT((a * solution - rhs).norm(), 1e-8 * rhs.norm());
 }
 
 // One step of the documented contact law, solved by plain projected Gauss–Seidel over all
@@ -304,6 +403,37 @@ TEST(Threads, SameTrajectoryForAnyThreadCount) {
       }
     }
   }
+}
+
+// From the affine start at ν = 0.82 the active contacts percolate: clusters of thousands of
+// rows, whose factorisation the threads share (SparseLdl by subtrees), give the same
+// trajectory for any thread count too.
+TEST(Threads, SameTrajectoryWithSharedClusterFactor) {
+  PackingParams params;
+  params.grains = 5000;
+  params.packing_fraction = 0.82;
+  const Packing packing = make_biperiodic_packing(params);
+  GrainState start = make_grains(packing.position, packing.radius);
+  add_affine_flow(start, packing.box, 1.0);
+  std::vector<GrainState> finals;
+  int largest = 0;
+  for (int threads : {1, 2, 3}) {
+    SolverSettings settings;
+    settings.threads = threads;
+    Engine engine(start, packing.box, 1.0, Material{0.5, 0.0, 0.0}, settings, 1e-3);
+    for (int k = 0; k < 10; ++k) {
+      const StepReport& r = engine.step();
+      ASSERT_TRUE(r.converged);
+      largest = std::max(largest, r.largest_cluster);
+    }
+    finals.push_back(engine.state());
+  }
+  EXPECT_GE(largest, 2000);  // kSharedClusterRows: the shared factorisation was used
+  for (std::size_t run = 1; run < finals.size(); ++run)
+    for (std::size_t g = 0; g < start.size(); ++g) {
+      ASSERT_EQ(finals[run].position[g], finals[0].position[g]);
+      ASSERT_EQ(finals[run].velocity[g], finals[0].velocity[g]);
+    }
 }
 
 // A packing at ν = 0.83, just below jamming, sheared from rest: its first active sets are
