@@ -6,6 +6,7 @@
 //   build-*/bench/bench_engine --benchmark_filter='Shear/2000/'      time to solution, N = 2000
 //   build-*/bench/bench_engine --benchmark_filter=Tolerance          p, s, T at tolerance 1e-6 vs 1e-10
 //   build-*/bench/bench_engine --benchmark_filter=Threads            1 vs 2 threads at N = 10⁵
+//   build-*/bench/bench_engine --benchmark_filter=Speedup            the same, alternating, best of each
 //   build-*/bench/bench_engine --benchmark_filter=SweepsOnly         Gauss–Seidel without cluster solves
 //
 // Arguments of BM_Shear and BM_Threads: N, ν·1000, μ·100, γ̇dt·10⁴, warm-up steps (not
@@ -114,6 +115,33 @@ void BM_Shear(benchmark::State& state) { run_shear(state, false); }
 
 void BM_Threads(benchmark::State& state) { run_shear(state, true); }
 
+// Speed-up from 1 to 2 threads on the same warmed-up state (wall time): copies of the engine
+// run the same steps with 1 and with 2 threads, alternately, `reps` times each; the fastest
+// of each is kept, so that a busy moment of the machine does not decide the ratio.
+// Arguments: N, ν·1000, μ·100, γ̇dt·10⁴, warm-up steps, timed steps, reps.
+void BM_Speedup(benchmark::State& state) {
+  const std::int64_t grains = state.range(0), warm = state.range(4), steps = state.range(5), reps = state.range(6);
+  Engine warmed = sheared(grains, state.range(1) / 1000.0, state.range(2) / 100.0, state.range(3) * 1e-4, 1e-10, 2);
+  for (std::int64_t k = 0; k < warm; ++k) warmed.step();
+  double best[2] = {1e300, 1e300};
+  std::size_t bytes[2] = {0, 0};
+  for (auto _ : state)
+    for (std::int64_t rep = 0; rep < reps; ++rep)
+      for (int threads : {1, 2}) {
+        Engine engine = warmed;
+        engine.set_threads(threads);
+        const double start = wall_seconds();
+        for (std::int64_t k = 0; k < steps; ++k) engine.step();
+        best[threads - 1] = std::min(best[threads - 1], wall_seconds() - start);
+        bytes[threads - 1] = engine.allocated_bytes();
+      }
+  state.counters["s/step 1"] = best[0] / double(steps);
+  state.counters["s/step 2"] = best[1] / double(steps);
+  state.counters["speedup"] = best[0] / best[1];
+  state.counters["B/grain 1"] = double(bytes[0]) / double(grains);
+  state.counters["B/grain 2"] = double(bytes[1]) / double(grains);
+}
+
 // Gauss–Seidel alone (no exact cluster solves): the sweep kernel's own update rate.
 void BM_SweepsOnly(benchmark::State& state) { run_shear(state, false, false); }
 
@@ -184,6 +212,13 @@ BENCHMARK(BM_Threads)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
+// Threads in steady state at N = 10⁵ (0.5 strain of warm-up), μ = 0 and μ = 0.4 (from rest).
+BENCHMARK(BM_Speedup)
+    ->Args({100000, 800, 0, 10, 500, 30, 3})
+    ->Args({100000, 800, 40, 10, 0, 3, 2})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
 BENCHMARK(BM_Tolerance)->Arg(1000000)->Arg(100)->Iterations(1)->Unit(benchmark::kSecond);
 
 BENCHMARK_MAIN();
