@@ -1,7 +1,8 @@
 """The chapter-4 incline fragment of Makefile.sweeps (pipelines/ch4_incline.mk), dry run at
 SIZE=test with stamps present: run names carry their parameters into the commands, the start
-is made once, the θ_c sweep and the bulk table get the right runs, and `ch4-files` includes
-the incline figures. Nothing is built or run."""
+is made once, the μ = 0.4 runs branch from the end of a μ = 0 run (after it, and again when it
+changes), the θ_c sweep and the bulk table get the right runs, and `ch4-files` includes the
+incline figures. Nothing is built or run."""
 import os
 import re
 import subprocess
@@ -21,7 +22,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
                     fh.write("0\n")
             args = ["make", "-n", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test",
                     f"BUILD={d}/build", f"RUNS={d}/runs", f"FIGURES={d}/figures"]
-            args += [f"{k}={v}" for k, v in variables.items()] + list(targets)
+            args += [f"{k}={v}" for k, v in variables.items()] + [t.replace("TMP", d) for t in targets]
             res = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
             self.assertEqual(res.returncode, 0, res.stderr)
             return re.sub(r"[ \t]+", " ", res.stdout.replace(d, "TMP").replace("\\\n", " "))
@@ -31,19 +32,63 @@ class Ch4InclineMakeTest(unittest.TestCase):
         self.assertEqual(out.count("gf-pack --quiet --incline --width 10 --height 5 --seed 1"), 1, out)
         runs = re.findall(r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h5_s1\.h5 -o "
                           r"TMP/runs/incline_th(\S+)_e(\S+)_mu(\S+)_s1\.h5 --angle (\S+) --restitution (\S+) "
-                          r"--friction (\S+)", out)
+                          r"--friction (\S+) --time 20 --time-step 5e-3 --from-time 5 ", out)
         got = sorted((float(a), float(mu)) for _, _, _, a, _, mu in runs)
-        self.assertEqual(got, [(5, 0), (20, 0), (22, 0), (30, 0.4)])
+        self.assertEqual(got, [(5, 0), (20, 0), (22, 0)])
         for th, e, mu, angle, e2, mu2 in runs:
             self.assertEqual((th, e, mu), (angle, e2, mu2))
+        # μ = 0.4 branches from the last frame of the μ = 0 run at INCLINE_MU04_PARENT (20°), with
+        # the branch settings; made after its parent, once.
+        branch = ("gf-incline --quiet -i TMP/runs/incline_th20_e0.50_mu0.00_s1.h5 -o "
+                  "TMP/runs/incline_branch_th30_e0.50_mu0.40_s1_from20.h5 --angle 30 --restitution 0.50 --friction 0.40 "
+                  "--frame -1 --time 10 --time-step 5e-3 --from-time 2 --frame-every 1000")
+        self.assertEqual(out.count(branch), 1, out)
+        self.assertLess(out.index("-o TMP/runs/incline_th20_e0.50_mu0.00_s1.h5"), out.index(branch))
         self.assertRegex(out, r"incline_bulk\.py .* -o TMP/runs/ch4_incline\.h5 TMP/runs/incline_th20_\S+ "
-                              r"TMP/runs/incline_th22_\S+ TMP/runs/incline_th30_e0\.50_mu0\.40_s1\.h5")
+                              r"TMP/runs/incline_th22_\S+ TMP/runs/incline_branch_th30_e0\.50_mu0\.40_s1_from20\.h5")
         self.assertRegex(out, r"critical_angle\.py --window 10 -o TMP/runs/ch4_critical_angle\.h5 "
                               r"TMP/runs/incline_th20_\S+ TMP/runs/incline_th22_\S+ TMP/runs/incline_th5_\S+\n")
         for k in (7, 8, 9, 10):
             self.assertIn(f"TMP/figures/fig4_{k}.png", out)
         # Fig 4.10 reads the shear sweep, which now has the μ = 0.4 rows.
         self.assertIn("shear_nu0.700_e0.50_mu0.40_r1e-02_s1.h5", out)
+
+    def test_branch_settings_and_any_name(self):
+        # A coarser tolerance reaches the command; any branched name can be asked for, and its
+        # parent (any angle, μ = 0, same e and seed) is made first from the pack.
+        out = self.dry_run("TMP/runs/incline_branch_th25_e0.50_mu0.40_s1_from22.h5", INCLINE_BRANCH_TOLERANCE="1e-8")
+        self.assertIn("gf-pack --quiet --incline --width 10 --height 5 --seed 1", out)
+        self.assertRegex(out, r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h5_s1\.h5 -o "
+                              r"TMP/runs/incline_th22_e0\.50_mu0\.00_s1\.h5 --angle 22 .* --time 20 ")
+        self.assertRegex(out, r"-i TMP/runs/incline_th22_e0\.50_mu0\.00_s1\.h5 -o "
+                              r"TMP/runs/incline_branch_th25_e0\.50_mu0\.40_s1_from22\.h5 --angle 25 .* --frame -1 "
+                              r"--time 10 --time-step 5e-3 --from-time 2 --tolerance 1e-8 ")
+        # Without a parent angle the μ = 0.4 runs start from the pack with the μ = 0 settings.
+        out = self.dry_run("ch4-incline-files", INCLINE_MU04_PARENT="")
+        self.assertRegex(out, r"-i TMP/runs/incline_pack_w10_h5_s1\.h5 -o TMP/runs/incline_th30_e0\.50_mu0\.40_s1\.h5 "
+                              r"--angle 30 .* --time 20 ")
+        self.assertNotIn("_from", out)
+
+    def test_branch_remade_after_its_parent(self):
+        # With every file present and up to date, a newer parent makes the branch (and only the
+        # runs depending on it) out of date.
+        with tempfile.TemporaryDirectory() as d:
+            args = ["make", "-q", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test",
+                    f"BUILD={d}/build", f"RUNS={d}/runs", f"FIGURES={d}/figures"]
+            os.makedirs(f"{d}/build/stamps")
+            os.makedirs(f"{d}/runs")
+            files = [f"{d}/build/stamps/gf-incline.stamp", f"{d}/build/stamps/gf-pack.stamp",
+                     f"{d}/runs/incline_pack_w10_h5_s1.h5", f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5",
+                     f"{d}/runs/incline_branch_th30_e0.50_mu0.40_s1_from20.h5"]
+            for k, path in enumerate(files):
+                with open(path, "w") as fh:
+                    fh.write("x\n")
+                os.utime(path, (1000 + k, 1000 + k))
+            branch = files[-1]
+            self.assertEqual(subprocess.run(args + [branch], cwd=ROOT).returncode, 0)
+            os.utime(files[3], (2000, 2000))  # the parent was remade
+            self.assertEqual(subprocess.run(args + [branch], cwd=ROOT).returncode, 1)
+            self.assertEqual(subprocess.run(args + [files[3]], cwd=ROOT).returncode, 0)
 
     def test_ch4_includes_incline(self):
         out = self.dry_run("ch4-files")
