@@ -96,5 +96,50 @@ class Ch4InclineMakeTest(unittest.TestCase):
         self.assertIn("ch4_consistent_rheology.py", out)
 
 
+@unittest.skipUnless(os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-incline")),
+                     "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it")
+class Ch4InclineBranchRunTest(unittest.TestCase):
+    """The branch rule for real at SIZE=test (a 10 x 12 layer: the bulk table needs a few layers of
+    3 diameters; seconds): the pack, the 20° μ = 0
+    parent, the 30° μ = 0.4 branch from its last frame, the bulk table with the branch's row and
+    its parent, and Fig 4.10."""
+
+    def test_branch_run_table_and_figure(self):
+        with tempfile.TemporaryDirectory() as d:
+            stamps = os.path.join(d, "stamps")
+            os.makedirs(stamps)
+            for prog in ("gf-pack", "gf-shear", "gf-incline"):
+                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
+                    fh.write("0\n")
+            make = ["make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",
+                    f"STAMPS={stamps}", f"RUNS={d}/runs", f"FIGURES={d}/figures", "PYTHON=/usr/bin/python3",
+                    "INCLINE_HEIGHT=12"]
+            targets = [f"{d}/runs/ch4_incline.h5", f"{d}/figures/fig4_10.png"]
+            res = subprocess.run(make + targets, cwd=ROOT, capture_output=True, text=True)
+            self.assertEqual(res.returncode, 0, res.stdout + res.stderr)
+            import h5py
+            branch = f"{d}/runs/incline_branch_th30_e0.50_mu0.40_s1_from20.h5"
+            with h5py.File(branch, "r") as f:
+                p = f["parameters"].attrs
+                self.assertEqual((p["angle"], p["friction"], p["parent_angle"], p["parent_friction"]), (30, 0.4, 20, 0))
+                parent = p["input"]
+                self.assertEqual(parent.decode() if isinstance(parent, bytes) else parent,
+                                 f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
+            with h5py.File(targets[0], "r") as f:
+                rows = [os.path.basename(x.decode() if isinstance(x, bytes) else x) for x in f["runs/input"][...]]
+                k = rows.index(os.path.basename(branch))
+                self.assertAlmostEqual(f["runs/friction"][k], 0.4)
+                start = f["runs/start"][k]
+                self.assertEqual(start.decode() if isinstance(start, bytes) else start, "incline_th20_e0.50_mu0.00_s1.h5")
+                self.assertAlmostEqual(f["runs/start_time"][k], 20, places=6)  # the parent's 20 τ
+                self.assertEqual(f["runs/start_friction"][k], 0)
+            with open(targets[1], "rb") as fh:
+                self.assertEqual(fh.read(8), b"\x89PNG\r\n\x1a\n")
+            # Up to date now; a remade parent makes the branch and the table out of date.
+            self.assertEqual(subprocess.run(make + ["-q"] + targets, cwd=ROOT).returncode, 0)
+            os.utime(f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
+            self.assertEqual(subprocess.run(make + ["-q", branch], cwd=ROOT).returncode, 1)
+
+
 if __name__ == "__main__":
     unittest.main()
