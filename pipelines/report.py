@@ -222,6 +222,11 @@ def incline_section(incline_path, critical_path, sweep_path):
                      + f" | {bulk['s_over_p_drift'][r]:+.3f}, {bulk['inertial_drift'][r]:+.3f}, "
                      f"{bulk['mT_over_pR2_drift'][r]:+.3f} | {bal['yy_max_deviation'][r]:.2%}, "
                      f"{bal['xy_max_deviation'][r]:.2%} |")
+    branched = [r for r in order if "start_friction" in runs and np.isfinite(runs["start_friction"][r])]
+    if branched:
+        lines += ["", "Branched runs (“from” and “run” count from the branch point; velocities kept): " + "; ".join(
+            f"θ = {runs['angle'][r]:g}°, μ = {runs['friction'][r]:g} from `{runs['start'][r]}` (μ = "
+            f"{runs['start_friction'][r]:g}) at its {runs['start_time'][r]:.0f} τ" for r in branched) + "."]
     flowing = order[runs["flowing"][order] == 1]
     if len(flowing):
         worst = max(float(np.max(bal["yy_max_deviation"][flowing])), float(np.max(bal["xy_max_deviation"][flowing])))

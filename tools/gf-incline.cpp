@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
       engine->restore(0, memory_of(start.contacts));
       io::Parameters parameters = io::provenance(cli);
       io::add_input(parameters, input_path);
+      io::add_input_frame(parameters, input, start.frame_index, start.frame_step, start.frame_time);
       parameters.set("mean_radius", start.mean_radius);
       parameters.set("mean_mass", start.mean_mass);
       parameters.set("tau", tau);

@@ -16,11 +16,15 @@ Vec2 incline_gravity(double g, double angle_degrees) {
 
 InclineStart incline_start(const io::TrajectoryReader& input, long long frame_index) {
   const std::string& path = input.path();
-  io::Frame frame = input.frame(input.frame_index(frame_index));
+  const std::size_t index = input.frame_index(frame_index);
+  io::Frame frame = input.frame(index);
   if (frame.box.periodic_y)
     throw UsageError("'" + path + "' is a biperiodic packing (box periodic in y): gf-incline needs an incline " +
                      "start (gf-pack --incline) or a gf-incline trajectory");
   InclineStart start;
+  start.frame_index = index;
+  start.frame_step = frame.step;
+  start.frame_time = frame.time;
   start.grains = grains_of(frame, input.grains());
   start.box = frame.box;
   if (frame.has_contacts) start.contacts = frame.contacts;

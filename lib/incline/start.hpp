@@ -24,6 +24,10 @@ struct InclineStart {
   std::size_t base_grains = 0;  // fixed grains
   double mean_radius = 0;       // ⟨R⟩ of the mobile grains
   double mean_mass = 0;         // their mean mass
+  // The stored frame used: its index in the input, its step and time there.
+  std::size_t frame_index = 0;
+  std::int64_t frame_step = 0;
+  double frame_time = 0;
 };
 
 // g(sin θ, −cos θ) for θ in degrees.

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <variant>
 
 #include "core/sha256.hpp"
 #include "core/version.hpp"
@@ -28,6 +29,20 @@ void add_input(Parameters& parameters, const std::string& path, int index, const
   const std::string name = index == 0 ? key : key + "_" + std::to_string(index);
   parameters.set(name, path);
   parameters.set(name + "_sha256", sha256_file(path));
+}
+
+void add_input_frame(Parameters& parameters, const TrajectoryReader& input, std::size_t index, std::int64_t step,
+                     double time) {
+  parameters.set("input_frame", std::int64_t(index));
+  parameters.set("input_step", step);
+  parameters.set("input_time", time);
+  const Parameters parent = input.parameters();
+  for (const char* name :
+       {"program", "angle", "friction", "restitution", "tangential_restitution", "rate", "input", "input_sha256"}) {
+    if (!parent.has(name)) continue;
+    std::visit([&](const auto& value) { parameters.set(std::string("parent_") + name, value); },
+               parent.items().at(name));
+  }
 }
 
 }  // namespace granflow::io

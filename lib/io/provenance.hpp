@@ -18,4 +18,12 @@ Parameters provenance(const CommandLine& cli);
 // take another key (e.g. "reference": reference, reference_1, ...).
 void add_input(Parameters& parameters, const std::string& path, int index = 0, const std::string& key = "input");
 
+// Records which stored frame of the input a run starts from (a branch from another run's
+// trajectory): input_frame (index), input_step, input_time, and the parent run's own
+// program, angle, friction, restitution, tangential_restitution, rate, input and
+// input_sha256 when its /parameters has them, as parent_<name> — so a branched run names
+// its parent's physics (and the grandparent file) without opening the parent.
+void add_input_frame(Parameters& parameters, const TrajectoryReader& input, std::size_t index, std::int64_t step,
+                     double time);
+
 }  // namespace granflow::io

@@ -26,7 +26,7 @@ and NaN for everything below but ν):
   the depth below the surface is the variable to fit in.
 
 Output (HDF5, atomically): /parameters (program, script_sha256, command_line, base_skip,
-surface_skip); /runs/<column> [rows] (input, input_sha256, angle, friction, restitution,
+surface_skip); /runs/<column> [rows] (input, input_sha256, start, start_time, start_friction, angle, friction, restitution,
 grains, layer_length, mean_radius, mean_mass, tau, gravity, time, steady, steady_from_tau,
 steady_from_given, surface_height, bulk_layers, bulk_from, bulk_to, flowing); /bulk/<name>,
 <name>_error, <name>_drift; /balance/{yy_max_deviation, xy_max_deviation};
@@ -70,6 +70,10 @@ def read_run(path):
             raise ValueError(f"/parameters lacks {', '.join(missing)}")
         params = {k: t(attrs[k]) for k, t in PARAMETERS.items()}
         params["time"] = params["dt"] * params["total_steps"] / params["tau"]
+        # What the run started from: a pack, or a frame of a parent run (a branch).
+        params["start"] = os.path.basename(attrs.get("input", ""))
+        params["start_time"] = float(attrs.get("input_time", 0.0)) / params["tau"]
+        params["start_friction"] = float(attrs.get("parent_friction", math.nan))
         g = f["/profiles"]
         prof = {k: g[k][...].astype(float) for k in PROFILE_NAMES}
         pattrs = {k: _text(v) for k, v in g.attrs.items()}
@@ -226,6 +230,7 @@ def analyse(paths, base_skip, surface_skip):
             raise ValueError(f"{path}: {exc}") from exc
         row.update({k: run["parameters"][k] for k in RUN_COLUMNS})
         row["input"], row["input_sha256"] = path, sha256(path)
+        row.update({k: run["parameters"][k] for k in ("start", "start_time", "start_friction")})
         rows.append(row)
     return rows
 
@@ -240,11 +245,17 @@ def write_table(output, rows, base_skip, surface_skip, command_line):
                 "base_skip": base_skip, "surface_skip": surface_skip})
             text = h5py.string_dtype()
             runs = f.create_group("runs")
-            for col in ("input", "input_sha256"):
+            for col in ("input", "input_sha256", "start"):
                 runs.create_dataset(col, data=np.array([r[col] for r in rows], dtype=object), dtype=text)
+            runs["start"].attrs["meaning"] = "file the run started from (its /parameters input): a pack or, for a " \
+                                             "branch, the parent run"
             for col in RUN_COLUMNS:
                 runs.create_dataset(col, data=np.array([r[col] for r in rows]))
                 runs[col].attrs["meaning"] = f"the run's parameter or /profiles attribute '{col}'"
+            for col, meaning in (("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
+                                 ("start_friction", "friction of the parent run (NaN: started from a pack)")):
+                runs.create_dataset(col, data=np.array([r[col] for r in rows]))
+                runs[col].attrs["meaning"] = meaning
             for group, names in GROUPS.items():
                 g = f.require_group(group)
                 for name in names:

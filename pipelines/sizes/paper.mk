@@ -50,6 +50,15 @@ INCLINE_E               := 0.50
 INCLINE_REFERENCE_ANGLE := 12
 INCLINE_ANGLES_MU0      := 9 10 11 12 13 14 15
 INCLINE_ANGLES_MU04     := 18 20 22 24 26
+# μ = 0.4 branched from the end of the steepest μ = 0 run (15°, a dense flowing layer) instead
+# of the dilute start, whose frictional collapse costs 818-2251 sweeps per step; 1000 τ at the
+# same step, the steady part detected. Not run at this size: the dense frictional flow costs
+# ~10³ sweeps per step at 10³ grains (quick size), more in a thicker layer.
+INCLINE_MU04_PARENT     := 15
+INCLINE_BRANCH_TIME     := 1000
+INCLINE_BRANCH_TIME_STEP := 2e-3
+INCLINE_BRANCH_FROM_TIME :=
+INCLINE_BRANCH_TOLERANCE :=
 INCLINE_CRITICAL_ANGLES := 4 5 6 7 8
 INCLINE_TIME            := 2000
 INCLINE_TIME_STEP       := 2e-3

@@ -265,10 +265,11 @@ def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=
 
 def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.0, restitution=0.5,
                       mean_radius=0.7, width_diameters=40.0, nu=0.8, height_diameters=25.0, gravity=1.0,
-                      time_step=5e-3, observe_every=10, steady=1, steady_from_tau=100.0, seed=1):
+                      time_step=5e-3, observe_every=10, steady=1, steady_from_tau=100.0, seed=1, parent=None):
     """A gf-incline trajectory with the parts the incline analyses read: /parameters,
     /observables/flow_rate (given series, one row per observe_every steps), /profiles (given,
-    or bagnold_profiles) with its attributes, and two frames of grains (a base row and a layer)."""
+    or bagnold_profiles) with its attributes, and two frames of grains (a base row and a layer).
+    parent = (path, friction, time in τ): a branch, with gf-incline's input and parent_* provenance."""
     rng = np.random.default_rng(seed)
     d = 2 * mean_radius
     mass = np.pi * mean_radius ** 2
@@ -292,6 +293,11 @@ def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.
             "gravity": gravity, "dt": dt, "total_steps": np.int64(total_steps), "grains": np.int64(grains),
             "base_grains": np.int64(int(width_diameters)), "mean_radius": mean_radius, "mean_mass": mass,
             "observe-every": np.int64(observe_every), "program": "gf-incline"})
+        if parent is not None:
+            f["parameters"].attrs.update({"input": parent[0], "input_time": parent[2] * tau,
+                                          "parent_friction": float(parent[1]), "parent_program": "gf-incline"})
+        else:
+            f["parameters"].attrs["input"] = "incline_pack.h5"
         obs = f.create_group("observables")
         _element(obs, "flow_rate", flow_rate, steps, steps * dt)
         g = f.create_group("profiles")

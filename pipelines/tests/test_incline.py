@@ -172,7 +172,9 @@ class InclineOutputsTest(unittest.TestCase):
         cls.runs = []
         for angle, mu, nu in ((10, 0.0, 0.82), (12, 0.0, 0.81), (20, 0.4, 0.78)):
             path = os.path.join(d, f"incline_th{angle}_mu{mu}.h5")
-            synthetic.write_incline_run(path, angle, friction=mu, nu=nu,
+            # The μ = 0.4 run is a branch from the end of the 12° one, as at the quick size.
+            parent = (cls.runs[1], 0.0, 400.0) if mu else None
+            synthetic.write_incline_run(path, angle, friction=mu, nu=nu, parent=parent,
                                         profiles=synthetic.bagnold_profiles(angle, nu=nu))
             cls.runs.append(path)
         rest = os.path.join(d, "incline_th4.h5")
@@ -227,7 +229,9 @@ class InclineOutputsTest(unittest.TestCase):
             text = fh.read()
         for needle in ("## Chapter 4: incline flow", "(thesis l. 449)", "(thesis l. 434)", "| 12 | 0 | 1.50 | 1.50 |",
                        "θ_c = 7° ± 3°**: the lowest angle of steady flow lies in (4°, 10°].",
-                       "largest deviation over the bulk layers of all flowing runs 0.00%", "| 4 | 0 | ", "| rest |"):
+                       "largest deviation over the bulk layers of all flowing runs 0.00%", "| 4 | 0 | ", "| rest |",
+                       "Branched runs (“from” and “run” count from the branch point; velocities kept): θ = 20°, "
+                       "μ = 0.4 from `incline_th12_mu0.0.h5` (μ = 0) at its 400 τ."):
             self.assertIn(needle, text)
         # s/p of each flowing run beside tan θ.
         for angle in (10, 12, 20):

@@ -105,6 +105,39 @@ TEST(GfInclineProfiles, LayoutAndUnits) {
   EXPECT_EQ(out.observable_step("flow_rate").front(), 10);  // --observe-every defaults to 10
 }
 
+// ---- a branch: another angle and friction from the last frame of a run ----
+
+TEST(GfInclineBranch, NewAngleAndFrictionFromTheLastFrameRecordsTheParent) {
+  ScratchDir dir("incline_branch");
+  const std::string parent = dir / "parent.h5", branch = dir / "branch.h5";
+  auto r = run_tool("gf-incline", "-i " + packing() + " --steps 1000 " + kRun + " -o " + parent);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_tool("gf-incline", "-i " + parent + " --frame -1 --angle 27 --friction 0.4 --steps 500 --profile-block 500 "
+                             "--frame-every 500 --quiet -o " + branch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader p(parent), b(branch);
+  const io::Frame last = p.frame(p.frame_count() - 1), first = b.frame(0);
+  EXPECT_EQ(last.step, 1000);
+  EXPECT_EQ(first.position, last.position);  // the branch starts where the parent stopped,
+  EXPECT_EQ(first.velocity, last.velocity);  // velocities kept
+  const io::Parameters a = b.parameters();
+  EXPECT_EQ(a.get_double("angle"), 27);
+  EXPECT_EQ(a.get_double("friction"), 0.4);
+  EXPECT_EQ(a.get_string("input"), parent);
+  EXPECT_EQ(a.get_int("input_frame"), std::int64_t(p.frame_count() - 1));
+  EXPECT_EQ(a.get_int("input_step"), 1000);
+  EXPECT_DOUBLE_EQ(a.get_double("input_time"), last.time);
+  EXPECT_EQ(a.get_string("parent_program"), "gf-incline");
+  EXPECT_EQ(a.get_double("parent_angle"), 20);
+  EXPECT_EQ(a.get_double("parent_friction"), 0);
+  EXPECT_EQ(a.get_string("parent_input"), packing());
+  // A packing as input: frame 0, no parent run.
+  const io::Parameters pa = p.parameters();
+  EXPECT_EQ(pa.get_int("input_frame"), 0);
+  EXPECT_EQ(pa.get_int("input_step"), 0);
+  EXPECT_FALSE(pa.has("parent_angle"));
+}
+
 // ---- a grain leaving the layer: exit 1, a message naming it, no output ----
 
 namespace {
