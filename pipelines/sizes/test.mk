@@ -31,9 +31,10 @@ CH5_WINDOW_STEPS  := 2
 CH4_FRICTION_NU   := 0.700
 CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
-# Chapter 4, incline: a layer 5 diameters thick on a base 10 wide, 20 τ.
+# Chapter 4, incline: a layer 12 diameters thick on a base 10 wide, 20 τ (the bulk table needs
+# a few layers of 3 diameters between the skipped base and surface).
 INCLINE_WIDTH           := 10
-INCLINE_HEIGHT          := 5
+INCLINE_HEIGHT          := 12
 INCLINE_SEED            := 1
 INCLINE_E               := 0.50
 INCLINE_REFERENCE_ANGLE := 20

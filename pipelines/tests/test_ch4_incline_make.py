@@ -29,8 +29,8 @@ class Ch4InclineMakeTest(unittest.TestCase):
 
     def test_incline_commands(self):
         out = self.dry_run("ch4-incline-files", INCLINE_ANGLES_MU0="20 22", INCLINE_CRITICAL_ANGLES="5")
-        self.assertEqual(out.count("gf-pack --quiet --incline --width 10 --height 5 --seed 1"), 1, out)
-        runs = re.findall(r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h5_s1\.h5 -o "
+        self.assertEqual(out.count("gf-pack --quiet --incline --width 10 --height 12 --seed 1"), 1, out)
+        runs = re.findall(r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h12_s1\.h5 -o "
                           r"TMP/runs/incline_th(\S+)_e(\S+)_mu(\S+)_s1\.h5 --angle (\S+) --restitution (\S+) "
                           r"--friction (\S+) --time 20 --time-step 5e-3 --from-time 5 ", out)
         got = sorted((float(a), float(mu)) for _, _, _, a, _, mu in runs)
@@ -57,15 +57,15 @@ class Ch4InclineMakeTest(unittest.TestCase):
         # A coarser tolerance reaches the command; any branched name can be asked for, and its
         # parent (any angle, μ = 0, same e and seed) is made first from the pack.
         out = self.dry_run("TMP/runs/incline_branch_th25_e0.50_mu0.40_s1_from22.h5", INCLINE_BRANCH_TOLERANCE="1e-8")
-        self.assertIn("gf-pack --quiet --incline --width 10 --height 5 --seed 1", out)
-        self.assertRegex(out, r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h5_s1\.h5 -o "
+        self.assertIn("gf-pack --quiet --incline --width 10 --height 12 --seed 1", out)
+        self.assertRegex(out, r"gf-incline --quiet -i TMP/runs/incline_pack_w10_h12_s1\.h5 -o "
                               r"TMP/runs/incline_th22_e0\.50_mu0\.00_s1\.h5 --angle 22 .* --time 20 ")
         self.assertRegex(out, r"-i TMP/runs/incline_th22_e0\.50_mu0\.00_s1\.h5 -o "
                               r"TMP/runs/incline_branch_th25_e0\.50_mu0\.40_s1_from22\.h5 --angle 25 .* --frame -1 "
                               r"--time 10 --time-step 5e-3 --from-time 2 --tolerance 1e-8 ")
         # Without a parent angle the μ = 0.4 runs start from the pack with the μ = 0 settings.
         out = self.dry_run("ch4-incline-files", INCLINE_MU04_PARENT="")
-        self.assertRegex(out, r"-i TMP/runs/incline_pack_w10_h5_s1\.h5 -o TMP/runs/incline_th30_e0\.50_mu0\.40_s1\.h5 "
+        self.assertRegex(out, r"-i TMP/runs/incline_pack_w10_h12_s1\.h5 -o TMP/runs/incline_th30_e0\.50_mu0\.40_s1\.h5 "
                               r"--angle 30 .* --time 20 ")
         self.assertNotIn("_from", out)
 
@@ -78,7 +78,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
             os.makedirs(f"{d}/build/stamps")
             os.makedirs(f"{d}/runs")
             files = [f"{d}/build/stamps/gf-incline.stamp", f"{d}/build/stamps/gf-pack.stamp",
-                     f"{d}/runs/incline_pack_w10_h5_s1.h5", f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5",
+                     f"{d}/runs/incline_pack_w10_h12_s1.h5", f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5",
                      f"{d}/runs/incline_branch_th30_e0.50_mu0.40_s1_from20.h5"]
             for k, path in enumerate(files):
                 with open(path, "w") as fh:
@@ -99,8 +99,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
 @unittest.skipUnless(os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-incline")),
                      "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it")
 class Ch4InclineBranchRunTest(unittest.TestCase):
-    """The branch rule for real at SIZE=test (a 10 x 12 layer: the bulk table needs a few layers of
-    3 diameters; seconds): the pack, the 20° μ = 0
+    """The branch rule for real at SIZE=test (a 10 x 12 layer; seconds): the pack, the 20° μ = 0
     parent, the 30° μ = 0.4 branch from its last frame, the bulk table with the branch's row and
     its parent, and Fig 4.10."""
 
@@ -112,8 +111,7 @@ class Ch4InclineBranchRunTest(unittest.TestCase):
                 with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
                     fh.write("0\n")
             make = ["make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",
-                    f"STAMPS={stamps}", f"RUNS={d}/runs", f"FIGURES={d}/figures", "PYTHON=/usr/bin/python3",
-                    "INCLINE_HEIGHT=12"]
+                    f"STAMPS={stamps}", f"RUNS={d}/runs", f"FIGURES={d}/figures", "PYTHON=/usr/bin/python3"]
             targets = [f"{d}/runs/ch4_incline.h5", f"{d}/figures/fig4_10.png"]
             res = subprocess.run(make + targets, cwd=ROOT, capture_output=True, text=True)
             self.assertEqual(res.returncode, 0, res.stdout + res.stderr)
