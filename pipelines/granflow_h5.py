@@ -8,15 +8,18 @@ import numpy as np
 
 
 def read_frame(path, frame=-1):
-    """Positions, radii, box edges and parameters of one stored frame."""
+    """Positions, velocities, time, radii, fixed flags, box edges and parameters of one stored frame."""
     with h5py.File(path, "r") as f:
         g = f["/particles/grains"]
         pos = g["position/value"][frame]
+        vel = g["velocity/value"][frame]
+        time = float(g["position/time"][frame])
         radius = g["radius"][...]
         fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
         edges = g["box/edges/value"][frame]
         params = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["/parameters"].attrs.items()}
-    return {"position": pos, "radius": radius, "fixed": fixed, "edges": edges, "parameters": params}
+    return {"position": pos, "velocity": vel, "time": time, "radius": radius, "fixed": fixed, "edges": edges,
+            "parameters": params}
 
 
 def atomic_output(path):

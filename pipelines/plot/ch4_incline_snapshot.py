@@ -10,7 +10,6 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -19,7 +18,7 @@ import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle
 
-from granflow_h5 import save_figure
+from granflow_h5 import read_frame, save_figure
 
 
 def main():
@@ -28,17 +27,12 @@ def main():
     ap.add_argument("output")
     ap.add_argument("--frame", type=int, default=-1)
     args = ap.parse_args()
-    with h5py.File(args.input, "r") as f:
-        g = f["/particles/grains"]
-        pos = g["position/value"][args.frame]
-        vel = g["velocity/value"][args.frame]
-        time = float(g["position/time"][args.frame])
-        radius = g["radius"][...]
-        fixed = g["fixed"][...].astype(bool)
-        lx = float(g["box/edges/value"][args.frame][0][0])
-        prm = f["/parameters"].attrs
-        theta, mu, e, tau, gravity, mean_r = (float(prm[k]) for k in ("angle", "friction", "restitution", "tau",
-                                                                      "gravity", "mean_radius"))
+    d = read_frame(args.input, args.frame)
+    pos, vel, time, radius = d["position"], d["velocity"], d["time"], d["radius"]
+    fixed = d["fixed"].astype(bool)
+    lx = float(d["edges"][0][0])
+    theta, mu, e, tau, gravity, mean_r = (float(d["parameters"][k]) for k in ("angle", "friction", "restitution",
+                                                                             "tau", "gravity", "mean_radius"))
     t = math.radians(theta)
     rot = np.array([[math.cos(t), math.sin(t)], [-math.sin(t), math.cos(t)]])  # R(−θ)
     speed = vel[:, 0] / math.sqrt(gravity * mean_r)

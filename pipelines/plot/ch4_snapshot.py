@@ -7,7 +7,6 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -16,7 +15,7 @@ import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle, Rectangle
 
-from granflow_h5 import save_figure
+from granflow_h5 import read_frame, save_figure
 
 
 def main():
@@ -25,15 +24,10 @@ def main():
     ap.add_argument("output")
     ap.add_argument("--frame", type=int, default=-1)
     args = ap.parse_args()
-    with h5py.File(args.input, "r") as f:
-        g = f["/particles/grains"]
-        pos = g["position/value"][args.frame]
-        vel = g["velocity/value"][args.frame]
-        time = g["position/time"][args.frame]
-        radius = g["radius"][...]
-        (lx, _), (offset, ly) = g["box/edges/value"][args.frame]
-        prm = f["/parameters"].attrs
-        rate, nu, e, mu = (float(prm[k]) for k in ("rate", "packing_fraction", "restitution", "friction"))
+    d = read_frame(args.input, args.frame)
+    pos, vel, time, radius = d["position"], d["velocity"], d["time"], d["radius"]
+    (lx, _), (offset, ly) = d["edges"]
+    rate, nu, e, mu = (float(d["parameters"][k]) for k in ("rate", "packing_fraction", "restitution", "friction"))
     colour = vel[:, 0] / (rate * ly / 2)
     patches, values = [], []
     # Periodic images, so grains cut by the boundary are drawn whole (the cell clips them):
