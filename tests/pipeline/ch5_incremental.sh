@@ -5,16 +5,8 @@
 # and remaking it redoes the correlation analyses and the figures but no simulation.
 set -euo pipefail
 src=${1:?usage: ch5_incremental.sh SOURCE_DIR}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-
-# Copy what git would check out (plus untracked, non-ignored files).
-if git -C "$src" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
-  (cd "$src" && git ls-files -co --exclude-standard -z | xargs -0 tar -cf - 2>/dev/null) | tar -xf - -C "$work"
-else
-  (cd "$src" && tar --exclude='./build*' --exclude=./runs --exclude=./figures -cf - .) | tar -xf - -C "$work"
-fi
-cd "$work"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/scratch_copy.bash"
+scratch_copy "$src"
 
 # The build dominates this test: only the three programs, and without optimisation (-O0
 # compiles ~30 % faster; the tiny sweep does not need speed, and the stamps hash whatever

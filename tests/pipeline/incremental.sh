@@ -5,16 +5,8 @@
 # nothing; a change to gf-pack's code makes the packings be redone.
 set -euo pipefail
 src=${1:?usage: incremental.sh SOURCE_DIR}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-
-# Copy what git would check out (plus untracked, non-ignored files).
-if git -C "$src" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
-  (cd "$src" && git ls-files -co --exclude-standard -z | xargs -0 tar -cf - 2>/dev/null) | tar -xf - -C "$work"
-else
-  (cd "$src" && tar --exclude='./build*' --exclude=./runs --exclude=./figures -cf - .) | tar -xf - -C "$work"
-fi
-cd "$work"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/scratch_copy.bash"
+scratch_copy "$src"
 git init -q && git add -A && git -c user.name=t -c user.email=t@t commit -qm base
 
 M=(make --no-print-directory -f Makefile.sweeps SIZE=test BUILD_TARGETS=gf-pack PROGRAMS=gf-pack)
@@ -41,7 +33,9 @@ git -c user.name=t -c user.email=t@t commit -qam "comment only"
 up_to_date || fail "a new commit (version text) made the packings out of date"
 "${M[@]}" packings >/dev/null
 [ "$(stat -c %Y "${packs[@]}")" = "$before" ] || fail "packings were remade without a code change"
-./build/bin/gf-pack --version | grep -q "$(git rev-parse --short=7 HEAD)" || fail "version does not name the commit"
+version=$(./build/bin/gf-pack --version)
+grep -q "$(git rev-parse --short=7 HEAD)" <<<"$version" ||
+  fail "version does not name the commit: '$version', HEAD $(git rev-parse --short=7 HEAD), describe $(git describe --always --dirty)"
 
 # 3. A change to gf-pack's code: the packings must be redone.
 sed -i 's/gf-pack: %zu grains/gf-pack: made %zu grains/' tools/gf-pack.cpp
