@@ -47,7 +47,9 @@
 //  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
 //    the clusters of active contacts still above the tolerance are solved exactly for
 //    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
-//    replaces the slow linear tail of Gauss–Seidel on large, tree-like clusters.
+//    replaces the slow linear tail of Gauss–Seidel on large, tree-like clusters. Small
+//    clusters go to the threads whole; large ones (the percolating one) are factorised by
+//    all threads together, by subtrees of the elimination tree, with the same result.
 //
 // The engine assumes disks with I = mR²/2 (W_tt = 3·W_nn) and a box at least two
 // search cutoffs (2·R_max + alert) wide, so that each pair has a single nearest image.
