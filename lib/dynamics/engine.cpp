@@ -396,6 +396,31 @@ constexpr double kClusterSolveGrowth = 100;
 // Clusters of at least this many active rows are factorised by all threads together.
 constexpr int kSharedClusterRows = 2000;
 
+// The items q of [0, count) for which keep(q) holds, gathered in order by threads: counted
+// by chunks, then, after resize(kept), place(q, k) for each with its rank k among the kept.
+// The ranks, hence the result, do not depend on the number of threads.
+template <class Keep, class Resize, class Place>
+void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_start, Keep keep, Resize resize,
+            Place place) {
+  constexpr std::ptrdiff_t chunk = 4096;
+  const std::ptrdiff_t chunks = (count + chunk - 1) / chunk;
+  chunk_start.assign(chunks + 1, 0);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    std::size_t kept = 0;
+    for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q) kept += keep(q);
+    chunk_start[h + 1] = kept;
+  }
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start[h + 1] += chunk_start[h];
+  resize(chunk_start[chunks]);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
+    std::size_t k = chunk_start[h];
+    for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q)
+      if (keep(q)) place(q, k++);
+  }
+}
+
 }  // namespace
 
 // The rows the sweeps visit: contacts carrying a warm-start impulse and pairs whose normal
@@ -552,29 +577,17 @@ void Engine::solve_clusters() {
   const int n = int(bodies_.size());
   // The active rows (all in the working set) with their mobile bodies (−1 for a fixed one,
   // which couples nothing), read once: the passes below touch only this compact copy.
-  // Gathered by chunks of the working set, counted then written in parallel.
   const int threads = settings_.threads;
-  constexpr std::ptrdiff_t chunk = 4096;
-  const std::ptrdiff_t listed = std::ptrdiff_t(work_.size()), chunks = (listed + chunk - 1) / chunk;
-  chunk_start_.assign(chunks + 1, 0);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
-    int found = 0;
-    for (std::ptrdiff_t q = h * chunk; q < std::min(listed, (h + 1) * chunk); ++q) found += rows_[work_[q]].pn > 0;
-    chunk_start_[h + 1] = found;
-  }
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start_[h + 1] += chunk_start_[h];
-  fit_capacity(active_, chunk_start_[chunks]);
-  active_.resize(chunk_start_[chunks]);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
-    std::size_t a = chunk_start_[h];
-    for (std::ptrdiff_t q = h * chunk; q < std::min(listed, (h + 1) * chunk); ++q) {
-      const Row& r = rows_[work_[q]];
-      if (r.pn > 0)
-        active_[a++] = {work_[q], bodies_[r.i].inv_mass > 0 ? r.i : -1, bodies_[r.j].inv_mass > 0 ? r.j : -1, 0};
-    }
-  }
+  gather(
+      std::ptrdiff_t(work_.size()), threads, chunk_start_, [&](std::ptrdiff_t q) { return rows_[work_[q]].pn > 0; },
+      [&](std::size_t kept) {
+        fit_capacity(active_, kept);
+        active_.resize(kept);
+      },
+      [&](std::ptrdiff_t q, std::size_t k) {
+        const Row& r = rows_[work_[q]];
+        active_[k] = {work_[q], bodies_[r.i].inv_mass > 0 ? r.i : -1, bodies_[r.j].inv_mass > 0 ? r.j : -1, 0};
+      });
   // Clusters by union–find over bodies; a row's cluster is that of one of its mobile bodies.
   cluster_.resize(n);
   for (int b = 0; b < n; ++b) cluster_[b] = b;
@@ -869,65 +882,52 @@ void Engine::solve() {
 }
 
 // Contacts of this step, from the impulses and the (still unchanged) pre-step state, in
-// candidate order: counted by chunks, then written in parallel at their places.
+// candidate order, written in parallel at their places.
 void Engine::record_contacts() {
-  constexpr std::ptrdiff_t chunk = 4096;
-  const std::ptrdiff_t count = std::ptrdiff_t(candidates_.size()), chunks = (count + chunk - 1) / chunk;
-  const int threads = settings_.threads;
-  chunk_start_.assign(chunks + 1, 0);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
-    int found = 0;
-    for (std::ptrdiff_t c = h * chunk; c < std::min(count, (h + 1) * chunk); ++c) found += rows_[row_of_[c]].pn > 0;
-    chunk_start_[h + 1] = found;
-  }
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start_[h + 1] += chunk_start_[h];
-  const std::size_t contacts = chunk_start_[chunks];
-  auto fit = [&](auto& v) {
-    fit_capacity(v, contacts);
-    v.resize(contacts);
-  };
-  fit(records_.pair);
-  fit(records_.normal_force);
-  fit(records_.tangential_force);
-  fit(records_.branch);
-  fit(records_.binary_force);
-  fit(records_.pre_normal_velocity);
-  fit(records_.age);
-  fit(prev_key_);
-  fit(prev_fn_);
-  fit(prev_ft_);
-  fit(prev_age_);
   const double e = material_.restitution;
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (std::ptrdiff_t h = 0; h < chunks; ++h) {
-    std::size_t q = chunk_start_[h];
-    for (std::ptrdiff_t c = h * chunk; c < std::min(count, (h + 1) * chunk); ++c) {
-      const Row& r = rows_[row_of_[c]];
-      if (!(r.pn > 0)) continue;
-      const Candidate& k = candidates_[c];
-      const int i = k.i, j = k.j;
-      const int age = row_age_[c] + 1;
-      const Vec2 n(r.nx, r.ny);
-      const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
-      const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
-      const double shift = k.image * rate_ * box_.ly;
-      const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
-      const double fn = r.pn / dt_, ft = r.pt / dt_;
-      records_.pair[q] = {i, j};
-      records_.normal_force[q] = fn;
-      records_.tangential_force[q] = ft;
-      records_.branch[q] = Vec2(k.dx, k.dy);
-      records_.binary_force[q] = (1 + e) * r.inv_w * std::max(0.0, -un) / dt_;
-      records_.pre_normal_velocity[q] = {vi.dot(n), vj.dot(n)};
-      records_.age[q] = age;
-      prev_key_[q] = pair_key(i, j);
-      prev_fn_[q] = fn;
-      prev_ft_[q] = ft;
-      prev_age_[q] = age;
-      ++q;
-    }
-  }
+  auto resize = [&](std::size_t contacts) {
+    auto fit = [&](auto& v) {
+      fit_capacity(v, contacts);
+      v.resize(contacts);
+    };
+    fit(records_.pair);
+    fit(records_.normal_force);
+    fit(records_.tangential_force);
+    fit(records_.branch);
+    fit(records_.binary_force);
+    fit(records_.pre_normal_velocity);
+    fit(records_.age);
+    fit(prev_key_);
+    fit(prev_fn_);
+    fit(prev_ft_);
+    fit(prev_age_);
+  };
+  auto record = [&](std::ptrdiff_t c, std::size_t q) {
+    const Row& r = rows_[row_of_[c]];
+    const Candidate& k = candidates_[c];
+    const int i = k.i, j = k.j;
+    const int age = row_age_[c] + 1;
+    const Vec2 n(r.nx, r.ny);
+    const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
+    const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
+    const double shift = k.image * rate_ * box_.ly;
+    const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
+    const double fn = r.pn / dt_, ft = r.pt / dt_;
+    records_.pair[q] = {i, j};
+    records_.normal_force[q] = fn;
+    records_.tangential_force[q] = ft;
+    records_.branch[q] = Vec2(k.dx, k.dy);
+    records_.binary_force[q] = (1 + e) * r.inv_w * std::max(0.0, -un) / dt_;
+    records_.pre_normal_velocity[q] = {vi.dot(n), vj.dot(n)};
+    records_.age[q] = age;
+    prev_key_[q] = pair_key(i, j);
+    prev_fn_[q] = fn;
+    prev_ft_[q] = ft;
+    prev_age_[q] = age;
+  };
+  gather(
+      std::ptrdiff_t(candidates_.size()), settings_.threads, chunk_start_,
+      [&](std::ptrdiff_t c) { return rows_[row_of_[c]].pn > 0; }, resize, record);
   report_.candidates = int(rows_.size());
   report_.contacts = int(records_.size());
 }
