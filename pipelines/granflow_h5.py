@@ -1,10 +1,20 @@
 """Small helpers shared by the plotting and report scripts: read granflow HDF5 files
 and write outputs atomically (temporary name, then rename), like the C++ programs."""
+import hashlib
 import os
 import tempfile
 
 import h5py
 import numpy as np
+
+
+def sha256(path):
+    """Hex SHA-256 of a file (the provenance the tables record for their inputs)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
 
 
 def read_frame(path, frame=-1):

@@ -30,7 +30,6 @@ restitution, mean_velocity, mean_velocity_error, drift, drift_error, state (text
 flowing (1/0); /critical_angle attrs theta_c, theta_below, theta_above, half_width, consistent.
 """
 import argparse
-import hashlib
 import math
 import os
 import shlex
@@ -43,7 +42,7 @@ import h5py
 import numpy as np
 
 import steady_state as ss
-from granflow_h5 import atomic_output
+from granflow_h5 import atomic_output, sha256
 
 FLOWING_STATES = ("steady", "accelerating")
 
@@ -131,14 +130,6 @@ def analyse(paths, window, rest_velocity, drift):
         result = {"theta_c": math.nan, "half_width": math.nan}
     result.update(theta_below=below, theta_above=above, consistent=int(consistent))
     return rows, result
-
-
-def sha256(path):
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 MEANINGS = {"angle": "incline angle θ (degrees)", "friction": "μ", "restitution": "e",

@@ -34,7 +34,6 @@ steady_from_given, surface_height, bulk_layers, bulk_from, bulk_to, flowing); /b
 Lengths in code units unless the name says diameters; velocities in √(g⟨R⟩).
 """
 import argparse
-import hashlib
 import math
 import os
 import shlex
@@ -44,7 +43,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import h5py
 import numpy as np
 
-from granflow_h5 import atomic_output
+from granflow_h5 import atomic_output, sha256
 
 PROFILE_NAMES = ("y", "packing_fraction", "velocity_x", "shear_rate", "temperature", "pressure", "shear_stress",
                  "stress_xx", "stress_yy", "weight_above", "s_over_p", "inertial", "mT_over_pR2")
@@ -186,14 +185,6 @@ def plot_input(doc, prog):
     except (OSError, KeyError, ValueError) as exc:
         sys.exit(f"{prog}: {args.input}: {exc}")
     return args, run, row
-
-
-def sha256(path):
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 RUN_COLUMNS = ("angle", "friction", "restitution", "grains", "layer_length", "mean_radius", "mean_mass", "tau",

@@ -36,7 +36,6 @@ steady part. Steady and diagnostic datasets carry `meaning` and `units` attribut
 columns name the gf-shear parameter they copy.
 """
 import argparse
-import hashlib
 import math
 import os
 import shlex
@@ -46,7 +45,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import h5py
 import numpy as np
 
-from granflow_h5 import atomic_output
+from granflow_h5 import atomic_output, sha256
 
 ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
                 "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
@@ -203,14 +202,6 @@ def steady_values(run, from_strain, to_strain=math.inf):
                    "solver_residual_max": float(np.max(steady["solver_residual"])),
                    "max_overlap_max": float(np.max(steady["max_overlap"]))}
     return values, diagnostics, n
-
-
-def sha256(path):
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 def analyse(paths, from_strain):
