@@ -1,7 +1,12 @@
 """Synthetic gf-shear trajectories for the pipeline's Python tests: files laid out as the
 gf-shear contract says (H5MD observables every step, /parameters by CLI name plus the
 derived packing_fraction, mean_radius, mean_mass, dt, grains), with series the test
-chooses, so the analysis can be checked against known answers."""
+chooses, so the analysis can be checked against known answers; and ScriptRunner, which
+runs a pipeline script from a test."""
+import os
+import subprocess
+import sys
+
 import h5py
 import numpy as np
 
@@ -328,3 +333,15 @@ def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.
         _element(pg, "velocity", vel, frames, frames * dt)
         _element(pg, "box/edges", edges, frames, frames * dt)
     return path
+
+
+class ScriptRunner:
+    """Mixin for unittest.TestCase: runs a pipeline script (path relative to pipelines/) with
+    this Python and fails the test, with its stderr, if the script fails."""
+
+    def run_script(self, script, *args):
+        pipelines = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+        res = subprocess.run([sys.executable, os.path.join(pipelines, script), *args], capture_output=True,
+                             text=True)
+        self.assertEqual(res.returncode, 0, res.stderr)
+        return res

@@ -2,7 +2,6 @@
 each script runs, writes its PNG (atomically) and the report quotes the thesis beside our values."""
 import glob
 import os
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -17,7 +16,7 @@ import steady_state as ss  # noqa: E402
 import synthetic  # noqa: E402
 
 
-class Ch4OutputsTest(unittest.TestCase):
+class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
@@ -47,10 +46,6 @@ class Ch4OutputsTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.tmp.cleanup()
-
-    def run_script(self, script, *args):
-        res = subprocess.run([sys.executable, os.path.join(PIPELINES, script), *args], capture_output=True, text=True)
-        self.assertEqual(res.returncode, 0, res.stderr)
 
     def test_figures(self):
         d = self.tmp.name

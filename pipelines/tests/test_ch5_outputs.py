@@ -5,7 +5,6 @@ section on a synthetic gf-correlate table with known ξ_|C|, flags and ν_bc."""
 import glob
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -57,7 +56,7 @@ class PeakRuleTest(unittest.TestCase):
         self.assertEqual(list(got), [True, False, True, False, True, False])
 
 
-class Ch5OutputsTest(unittest.TestCase):
+class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     # ξ_|C| = 1.7 + 3(ν − 0.55 − 0.2e)+ (+0.5 with friction at ν > 0.7) crosses 1.25 ξ_el =
     # 1.25·1.7 at ν = 0.6917 + 0.2e: the ν_bc gf-correlate would write, given to the table.
     NU_BC = {(0.0, 0.0): 0.6917, (0.25, 0.0): 0.7417, (0.5, 0.0): 0.7917, (0.0, 0.4): 0.66}
@@ -96,11 +95,6 @@ class Ch5OutputsTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.tmp.cleanup()
-
-    def run_script(self, script, *args):
-        res = subprocess.run([sys.executable, os.path.join(PIPELINES, script), *args], capture_output=True, text=True)
-        self.assertEqual(res.returncode, 0, res.stderr)
-        return res
 
     def test_analysis_reads_the_programs_values(self):
         table = ct.read_table(self.table)

@@ -162,7 +162,7 @@ class CriticalAngleTest(unittest.TestCase):
             self.assertFalse(os.path.exists(out + "2"))
 
 
-class InclineOutputsTest(unittest.TestCase):
+class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     """The Fig 4.7-4.10 scripts and the report section run on synthetic inputs."""
 
     @classmethod
@@ -202,10 +202,6 @@ class InclineOutputsTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.tmp.cleanup()
-
-    def run_script(self, script, *args):
-        res = subprocess.run([sys.executable, os.path.join(PIPELINES, script), *args], capture_output=True, text=True)
-        self.assertEqual(res.returncode, 0, res.stderr)
 
     def test_figures(self):
         d = self.tmp.name
