@@ -141,12 +141,12 @@ void Engine::detect(bool moved) {
   fit_capacity(candidates_, last + last / 8);
   double overlap = 0;
   const int threads = settings_.threads;
-  if (threads == 1) {
+  constexpr std::size_t block = 8192;
+  if (threads == 1 || pairs_.size() <= block) {
     overlap = select_candidates(0, pairs_.size(), candidates_);
   } else {
     // Blocks of pairs filtered in parallel, each into its thread's buffer, and appended in
     // order as soon as the blocks before it are: only one block per thread is held twice.
-    constexpr std::size_t block = 8192;
     const std::ptrdiff_t blocks = std::ptrdiff_t((pairs_.size() + block - 1) / block);
     candidate_blocks_.resize(threads);
 #pragma omp parallel num_threads(threads) reduction(max : overlap)
@@ -405,7 +405,9 @@ void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_s
   constexpr std::ptrdiff_t chunk = 4096;
   const std::ptrdiff_t chunks = (count + chunk - 1) / chunk;
   chunk_start.assign(chunks + 1, 0);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  // One chunk is not worth waking the threads for (twice).
+  const bool parallel = threads > 1 && chunks > 1;
+#pragma omp parallel for num_threads(threads) if (parallel) schedule(static)
   for (std::ptrdiff_t h = 0; h < chunks; ++h) {
     std::size_t kept = 0;
     for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q) kept += keep(q);
@@ -413,7 +415,7 @@ void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_s
   }
   for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start[h + 1] += chunk_start[h];
   resize(chunk_start[chunks]);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+#pragma omp parallel for num_threads(threads) if (parallel) schedule(static)
   for (std::ptrdiff_t h = 0; h < chunks; ++h) {
     std::size_t k = chunk_start[h];
     for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q)
