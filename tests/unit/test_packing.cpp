@@ -167,6 +167,23 @@ TEST(BiperiodicPacking, DenseFlowPackingIsExactAndOverlapFree) {
   EXPECT_GT(pk.iterations, 0);
 }
 
+TEST(BiperiodicPacking, GrainsAreNumberedBandByBand) {
+  // The engine's per-grain arrays are read in grain order: numbered along bands one
+  // diameter high, neighbours in space are near in memory (N = 10⁵ shears ~25 % faster).
+  // Growth and relaxation move a grain by about a diameter at most, so consecutive grains
+  // mostly lie within two diameters in y.
+  const PackingParams p = params(2000, 0.8);
+  const Packing pk = make_biperiodic_packing(p);
+  auto rise = [&](std::size_t k) {  // y_k − y_(k−1), periodic
+    const double dy = pk.position[k].y() - pk.position[k - 1].y();
+    return dy - pk.box.ly * std::round(dy / pk.box.ly);
+  };
+  int far = 0;
+  for (std::size_t k = 1; k < pk.position.size(); ++k) far += std::fabs(rise(k)) > 2 * p.mean_diameter;
+  const int bands = int(pk.box.ly / p.mean_diameter) + 1;
+  EXPECT_LE(far, 2 * bands) << bands;  // a random numbering gives ≈ 90 % of 2000
+}
+
 TEST(BiperiodicPacking, DiluteTargetNeedsNoGrowth) {
   double last_done = 0;
   const Packing pk = make_biperiodic_packing(params(200, 0.3), [&](double done, double) { last_done = done; });
