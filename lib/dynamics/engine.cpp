@@ -18,6 +18,13 @@ namespace granflow {
 
 namespace {
 
+// Width of the sweep tiles in cell columns (≈ 8 largest diameters): narrow enough that a
+// few unsettled contacts keep little else busy, wide enough to hold a few dozen contacts.
+constexpr int kTileColumns = 8;
+
+// Row flags of the frictionless sweeps: still corrected by Υ or more; carrying P_n > 0.
+constexpr std::uint8_t kHot = 1, kBearing = 2;
+
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
 template <class T>
@@ -221,8 +228,9 @@ void Engine::rebuild_pairs() {
   }
 }
 
-// Internal numbering of the grains by cells of a grid (row by row), so that the bodies of
-// neighbouring grains, and the contacts between them, lie close together in memory.
+// Internal numbering of the grains by cells of a grid, tile by tile (see below) and row by
+// row within a tile, so that the bodies of neighbouring grains, and the contacts between
+// them, lie close together in memory, and each tile's rows are swept in one stretch.
 void Engine::order_bodies() {
   const int n = int(state_.size());
   double y0 = 0, height = box_.ly;
@@ -236,44 +244,90 @@ void Engine::order_bodies() {
   const int columns = std::max(1, int(box_.lx / h));
   const int rows = std::clamp(int(height / h), 1, std::max(1, 2 * n / columns));  // at most ~2n cells
   const double to_column = columns / box_.lx, to_row = height > 0 ? rows / height : 0.0;
+
+  // Sweep strips: whole cell rows, at least a contact reach (2R_max + alert) high, and an
+  // even number of them (or one), so that the two strips next to each other across the
+  // periodic boundary, the first and the last, have different parity. Each strip is cut
+  // into tiles of whole columns, at least kTileColumns and a contact reach wide (one tile,
+  // or at least three, so that a tile's left and right neighbours differ); the last strip
+  // and the last tile of a strip take the rows and columns left over.
+  const double reach = 2 * max_radius_ + alert_;
+  const double row_height = height > 0 ? height / rows : h;
+  const int per_strip = std::max(1, int(std::ceil(reach / row_height)));
+  strips_ = rows / per_strip;
+  strips_ = strips_ > 1 ? strips_ - strips_ % 2 : 1;
+  const int per_tile = std::max(kTileColumns, int(std::ceil(reach / (box_.lx / columns))));
+  tiles_ = strips_ > 1 ? columns / per_tile : 1;
+  if (tiles_ < 3) tiles_ = 1;
+  auto strip_of_row = [&](int row) { return std::min(row / per_strip, strips_ - 1); };
+  auto block_of_column = [&](int column) { return std::min(column / per_tile, tiles_ - 1); };
+  // Cells ranked tile by tile, row by row within a tile: counted per cell, then summed in
+  // that order.
+  bucket_.assign(std::size_t(columns) * rows, 0);
   scratch_.resize(n);
-  bucket_.assign(std::size_t(columns) * rows + 1, 0);
   for (int g = 0; g < n; ++g) {
     const Vec2& r = state_.position[g];
     const int column = std::clamp(int(r.x() * to_column), 0, columns - 1);
     const int row = std::clamp(int((r.y() - y0) * to_row), 0, rows - 1);
     scratch_[g] = row * columns + column;
-    ++bucket_[scratch_[g] + 1];
+    ++bucket_[scratch_[g]];
   }
-  for (std::size_t c = 1; c < bucket_.size(); ++c) bucket_[c] += bucket_[c - 1];
-  for (int g = 0; g < n; ++g) body_of_[g] = bucket_[scratch_[g]]++;
-
-  // Sweep strips: whole cell rows, at least a contact reach (2R_max + alert) high, and an
-  // even number of them (or one), so that the two strips next to each other across the
-  // periodic boundary, the first and the last, have different parity.
-  const double row_height = height > 0 ? height / rows : h;
-  const int per_strip = std::max(1, int(std::ceil((2 * max_radius_ + alert_) / row_height)));
-  strips_ = rows / per_strip;
-  strips_ = strips_ > 1 ? strips_ - strips_ % 2 : 1;
+  int next = 0;
+  for (int strip = 0; strip < strips_; ++strip)
+    for (int block = 0; block < tiles_; ++block)
+      for (int row = strip * per_strip; row < rows && strip_of_row(row) == strip; ++row)
+        for (int column = block * per_tile; column < columns && block_of_column(column) == block; ++column) {
+          int& cell = bucket_[std::size_t(row) * columns + column];
+          const int count = cell;
+          cell = next;
+          next += count;
+        }
   strip_of_.resize(n);
-  for (int g = 0; g < n; ++g) strip_of_[body_of_[g]] = std::min(scratch_[g] / columns / per_strip, strips_ - 1);
+  block_of_.resize(n);
+  for (int g = 0; g < n; ++g) {
+    const int b = body_of_[g] = bucket_[scratch_[g]]++;
+    strip_of_[b] = strip_of_row(scratch_[g] / columns);
+    block_of_[b] = block_of_column(scratch_[g] % columns);
+  }
+}
+
+// The tile of a contact between bodies a and b: the strip of the lower one and the column
+// block of the left one (across the periodic x boundary, the last). A contact thus moves only
+// bodies of its own tile and of the tiles above and to the right of it, and a body is moved
+// only by contacts of its own tile and of the tiles below and to the left, so a tile needs
+// a sweep only if it or one of its eight neighbours moved. Across the periodic y boundary
+// (a contact through the image k ≠ 0), where the Lees–Edwards offset breaks the columns'
+// alignment, the tile of the upper body (see sweep()).
+int Engine::row_tile(int a, int b, int image) const {
+  if (image != 0) {
+    const int upper = image > 0 ? a : b;
+    return strip_of_[upper] * tiles_ + block_of_[upper];
+  }
+  const int ba = block_of_[a], bb = block_of_[b];
+  const int block = std::abs(ba - bb) <= 1 ? std::min(ba, bb) : std::max(ba, bb);
+  return std::min(strip_of_[a], strip_of_[b]) * tiles_ + block;
 }
 
 // Local problems of every candidate: normals, bounds, reduced masses, warm start. Rows are
-// stored in sweep order: by the first body of the pair, ties in candidate order.
+// stored in sweep order: by tile, ties in candidate order.
 void Engine::build_rows() {
-  const std::size_t count = candidates_.size(), n = state_.size();
-  bucket_.assign(n + 1, 0);
-  for (const Candidate& k : candidates_) ++bucket_[std::min(body_of_[k.i], body_of_[k.j]) + 1];
-  for (std::size_t b = 0; b < n; ++b) bucket_[b + 1] += bucket_[b];
+  const std::size_t count = candidates_.size();
+  auto tile = [&](const Candidate& k) { return row_tile(body_of_[k.i], body_of_[k.j], k.image); };
+  const int tiles = strips_ * tiles_;
+  bucket_.assign(tiles + 1, 0);
+  for (const Candidate& k : candidates_) ++bucket_[tile(k) + 1];
+  for (int t = 0; t < tiles; ++t) bucket_[t + 1] += bucket_[t];
+  tile_rows_.assign(bucket_.begin(), bucket_.end());
   refill(row_of_, count);
+  refill(row_tile_, count);
   for (std::size_t c = 0; c < count; ++c) {
-    const Candidate& k = candidates_[c];
-    row_of_[c] = bucket_[std::min(body_of_[k.i], body_of_[k.j])]++;
+    const int t = tile(candidates_[c]);
+    row_of_[c] = bucket_[t]++;
+    row_tile_[row_of_[c]] = t;
   }
   refill(rows_, count);
+  refill(row_bodies_, count);
   refill(row_age_, count);
-  refill(row_strip_, count);
   // Chunks of candidates, each with its own cursor into the previous step's memory (same
   // sort order), so that threads can share them.
   constexpr std::ptrdiff_t chunk = 4096;
@@ -312,10 +366,7 @@ void Engine::build_row(std::size_t c, std::size_t& p) {
   Row& r = rows_[row_of_[c]];
   r.i = body_of_[i];
   r.j = body_of_[j];
-  // Its strip: that of its lower body, as a contact spans at most two neighbouring strips;
-  // across the periodic boundary (the first and the last strip), the last.
-  const int si = strip_of_[r.i], sj = strip_of_[r.j];
-  row_strip_[row_of_[c]] = std::abs(si - sj) <= 1 ? std::min(si, sj) : std::max(si, sj);
+  row_bodies_[row_of_[c]] = {state_.fixed[i] ? -1 : r.i, state_.fixed[j] ? -1 : r.j};
   r.nx = nx;
   r.ny = ny;
   // The solver works on raw velocity differences: move the image shift into the bounds.
@@ -432,9 +483,10 @@ void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_s
 void Engine::select_working_set() {
   const std::ptrdiff_t count = std::ptrdiff_t(rows_.size());
   in_work_.resize(count);
-  hot_.assign(count, 1);
+  row_flags_.assign(count, kHot);
   unknown_.assign(count, -1);
-  moved_.assign(strips_, 1);
+  moved_.assign(std::size_t(strips_) * tiles_, 1);
+  touched_.assign(std::size_t(strips_) * tiles_, 1);  // the first check of a step is everywhere
 #pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::ptrdiff_t c = 0; c < count; ++c) {
     const Row& r = rows_[c];
@@ -445,20 +497,40 @@ void Engine::select_working_set() {
   group_working_set();
 }
 
-// Lists the working set strip by strip, rows ascending within each: the order of the sweeps.
+// Lists the working set tile by tile, rows ascending within each: the order of the sweeps.
 void Engine::group_working_set() {
-  work_start_.assign(strips_ + 1, 0);
+  const int tiles = strips_ * tiles_;
+  work_start_.assign(tiles + 1, 0);
   for (std::size_t c = 0; c < rows_.size(); ++c)
-    if (in_work_[c]) ++work_start_[row_strip_[c] + 1];
-  for (int t = 0; t < strips_; ++t) work_start_[t + 1] += work_start_[t];
-  work_.resize(work_start_[strips_]);
+    if (in_work_[c]) ++work_start_[row_tile_[c] + 1];
+  for (int t = 0; t < tiles; ++t) work_start_[t + 1] += work_start_[t];
+  work_.resize(work_start_[tiles]);
   bucket_.assign(work_start_.begin(), work_start_.end() - 1);
   for (std::size_t c = 0; c < rows_.size(); ++c)
-    if (in_work_[c]) work_[bucket_[row_strip_[c]]++] = int(c);
+    if (in_work_[c]) work_[bucket_[row_tile_[c]]++] = int(c);
+}
+
+// Whether tile (strip, block) or one of its eight neighbours is flagged; the tiles across the
+// periodic y boundary are taken care of by the caller (see sweep()).
+bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block) const {
+  const int tiles = tiles_;
+  for (int s : {strip - 1, strip, strip + 1}) {
+    if (s < 0 || s >= strips_) continue;
+    const std::uint8_t* f = flags.data() + std::size_t(s) * tiles;
+    if (f[block] || (tiles > 1 && (f[block > 0 ? block - 1 : tiles - 1] || f[block + 1 < tiles ? block + 1 : 0])))
+      return true;
+  }
+  return false;
+}
+
+// Whether any tile of the strip is flagged.
+bool Engine::strip_flagged(const std::vector<std::uint8_t>& flags, int strip) const {
+  const auto first = flags.begin() + std::ptrdiff_t(strip) * tiles_;
+  return std::find(first, first + tiles_, std::uint8_t(1)) != first + tiles_;
 }
 
 // One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
-// the other; backwards, the exact reverse. Returns the largest correction made. The
+// the other, tile by tile along each strip; backwards, the exact reverse. Returns the largest correction made. The
 // frictionless sweep also counts status changes (P_n > 0 or not) and active rows, and marks
 // the rows still corrected by Υ or more, for the cluster solves.
 template <bool Friction>
@@ -468,70 +540,86 @@ double Engine::sweep(bool forward, double upsilon) {
   const int* start = work_start_.data();
   Body* bodies = bodies_.data();
   Row* rows = rows_.data();
-  std::uint8_t* hot = hot_.data();
+  std::uint8_t* flags = row_flags_.data();
   std::uint8_t* moved = moved_.data();
-  const int threads = settings_.threads, strips = strips_;
-  const bool wrap = box_.periodic_y;
+  std::uint8_t* touched = touched_.data();
+  const int threads = settings_.threads, strips = strips_, tiles = tiles_;
+  const bool wrap = box_.periodic_y && strips > 1;
   double worst = 0;
   int changes = 0, active = 0;
   std::int64_t visits = 0;
   for (int half = 0; half < 2; ++half) {
     const int parity = forward ? half : 1 - half;
     const int count = (strips - parity + 1) / 2;  // strips of this parity
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) \
+    // Across the periodic y boundary the Lees–Edwards offset shifts the columns: the tiles
+    // of the first strip count any moved tile of the last strip as a neighbour, and those of
+    // the last strip, whose contacts across it reach grains of the first strip anywhere,
+    // any moved tile of either (as of the start of this half: the same for any threads).
+    const bool first_moved = wrap && strip_flagged(moved_, 0);
+    const bool last_moved = wrap && strip_flagged(moved_, strips - 1);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic, 1) \
     reduction(max : worst) reduction(+ : changes, active, visits)
     for (int t = 0; t < count; ++t) {
-      const int strip = parity + 2 * t, first = start[strip], last = start[strip + 1];
-      // A strip whose corrections and whose neighbours' (the last time each was swept) all
-      // stayed below Υ has settled; check() confirms it at the end.
-      const int below = strip > 0 ? strip - 1 : (wrap ? strips - 1 : strip);
-      const int above = strip + 1 < strips ? strip + 1 : (wrap ? 0 : strip);
-      if (!moved[strip] && !moved[below] && !moved[above]) continue;
-      double strip_worst = 0;
-      visits += last - first;
-      for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
-        const int c = work[q];
-        Row& r = rows[c];
-        Body& a = bodies[r.i];
-        Body& b = bodies[r.j];
-        const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-        const double un = dvx * r.nx + dvy * r.ny;
-        const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
-        const double dpn = pn - r.pn;
-        if constexpr (Friction) {
-          const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-          const double limit = mu * pn;
-          const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
-          const double dpt = pt - r.pt;
-          // Compare before dividing: the division is only needed for a new maximum.
-          const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
-          if (d > strip_worst * r.inv_w) strip_worst = d / r.inv_w;
-          r.pn = pn;
-          r.pt = pt;
-          const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
-          a.vx += a.inv_mass * px;
-          a.vy += a.inv_mass * py;
-          a.spin -= 2 * a.inv_mass * dpt;
-          b.vx -= b.inv_mass * px;
-          b.vy -= b.inv_mass * py;
-          b.spin -= 2 * b.inv_mass * dpt;
-        } else {
-          // μ = 0: P_t stays 0 and the spins never change.
-          const double d = std::fabs(dpn);
-          if (d > strip_worst * r.inv_w) strip_worst = d / r.inv_w;
-          changes += (pn > 0) != (r.pn > 0);
-          active += pn > 0;
-          hot[c] = d >= upsilon * r.inv_w;
-          r.pn = pn;
-          const double px = dpn * r.nx, py = dpn * r.ny;
-          a.vx += a.inv_mass * px;
-          a.vy += a.inv_mass * py;
-          b.vx -= b.inv_mass * px;
-          b.vy -= b.inv_mass * py;
+      const int strip = parity + 2 * t;
+      const bool across = wrap && ((strip == 0 && last_moved) || (strip == strips - 1 && (first_moved || last_moved)));
+      // The rows of one tile in sweep order; returns the largest correction.
+      auto sweep_rows = [&](int first, int last) {
+        double tile_worst = 0;
+        visits += last - first;
+        for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
+          const int c = work[q];
+          Row& r = rows[c];
+          Body& a = bodies[r.i];
+          Body& b = bodies[r.j];
+          const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
+          const double un = dvx * r.nx + dvy * r.ny;
+          const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
+          const double dpn = pn - r.pn;
+          if constexpr (Friction) {
+            const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
+            const double limit = mu * pn;
+            const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
+            const double dpt = pt - r.pt;
+            // Compare before dividing: the division is only needed for a new maximum.
+            const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
+            if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
+            r.pn = pn;
+            r.pt = pt;
+            const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
+            a.vx += a.inv_mass * px;
+            a.vy += a.inv_mass * py;
+            a.spin -= 2 * a.inv_mass * dpt;
+            b.vx -= b.inv_mass * px;
+            b.vy -= b.inv_mass * py;
+            b.spin -= 2 * b.inv_mass * dpt;
+          } else {
+            // μ = 0: P_t stays 0 and the spins never change.
+            const double d = std::fabs(dpn);
+            if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
+            changes += (pn > 0) != (r.pn > 0);
+            active += pn > 0;
+            flags[c] = (d >= upsilon * r.inv_w ? kHot : 0) | (pn > 0 ? kBearing : 0);
+            r.pn = pn;
+            const double px = dpn * r.nx, py = dpn * r.ny;
+            a.vx += a.inv_mass * px;
+            a.vy += a.inv_mass * py;
+            b.vx -= b.inv_mass * px;
+            b.vy -= b.inv_mass * py;
+          }
         }
+        return tile_worst;
+      };
+      for (int step = 0; step < tiles; ++step) {
+        const int block = forward ? step : tiles - 1 - step;
+        const int tile = strip * tiles + block;
+        // A tile whose corrections and whose neighbours' (the last time each was swept) all
+        // stayed below Υ has settled; check() confirms it at the end.
+        if (!across && !near_flagged(moved_, strip, block)) continue;
+        const double tile_worst = sweep_rows(start[tile], start[tile + 1]);
+        moved[tile] = tile_worst >= upsilon;
+        touched[tile] = 1;
+        worst = std::max(worst, tile_worst);
       }
-      moved[strip] = strip_worst >= upsilon;
-      worst = std::max(worst, strip_worst);
     }
   }
   status_changes_ = changes;
@@ -542,32 +630,46 @@ double Engine::sweep(bool forward, double upsilon) {
 
 // Largest correction a local solve would still make on the current velocities, over every
 // row (everywhere) or over the rows outside the working set; rows outside it that would
-// change join it.
+// change join it. The tiles of rows found off by Υ or more, or joining, are swept next.
+// Everywhere means every row whose residual may have changed since the last such check:
+// a row's residual depends on its impulse and its bodies' velocities only, which only the
+// rows of its own or the eight neighbouring tiles change (see row_tile()), so tiles away
+// from any tile swept or solved since then keep the residuals found then (all below Υ,
+// or their tiles would have been swept).
 double Engine::check(bool everywhere) {
-  const double mu = material_.friction;
-  const std::ptrdiff_t count = std::ptrdiff_t(rows_.size());
+  const double mu = material_.friction, upsilon = settings_.tolerance / dt_;
+  std::uint8_t* moved = moved_.data();
+  const int strips = strips_, tiles = tiles_;
+  const bool wrap = box_.periodic_y && strips > 1;
+  const bool first_touched = wrap && strip_flagged(touched_, 0), last_touched = wrap && strip_flagged(touched_, strips - 1);
   double worst = 0;
   std::int64_t visited = 0;
   bool joined = false;
-#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(dynamic, 16) \
     reduction(max : worst) reduction(+ : visited) reduction(|| : joined)
-  for (std::ptrdiff_t c = 0; c < count; ++c) {
-    if (!everywhere && in_work_[c]) continue;
-    const Row& r = rows_[c];
-    const double corr = correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu));
-    worst = std::max(worst, corr);
-    ++visited;
-    if (corr > 0 && !in_work_[c]) {
-      in_work_[c] = 1;
-      hot_[c] = 1;
-      joined = true;
+  for (int tile = 0; tile < strips * tiles; ++tile) {
+    const int strip = tile / tiles, block = tile % tiles;
+    if (everywhere && !(wrap && ((strip == 0 && last_touched) || (strip == strips - 1 && (first_touched || last_touched)))) &&
+        !near_flagged(touched_, strip, block))
+      continue;
+    for (int c = tile_rows_[tile]; c < tile_rows_[tile + 1]; ++c) {
+      if (!everywhere && in_work_[c]) continue;
+      const Row& r = rows_[c];
+      const double corr = correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu));
+      worst = std::max(worst, corr);
+      ++visited;
+      const bool joins = corr > 0 && !in_work_[c];
+      if (joins) {
+        in_work_[c] = 1;
+        row_flags_[c] = kHot;  // P_n = 0 outside the working set
+        joined = true;
+      }
+      if (joins || corr >= upsilon) moved[tile] = 1;
     }
   }
+  if (everywhere && !settings_.full_checks) std::fill(touched_.begin(), touched_.end(), 0);
   report_.contact_updates += visited;
-  if (joined) {
-    group_working_set();
-    moved_.assign(strips_, 1);
-  }
+  if (joined) group_working_set();
   return worst;
 }
 
@@ -581,14 +683,14 @@ void Engine::solve_clusters() {
   // which couples nothing), read once: the passes below touch only this compact copy.
   const int threads = settings_.threads;
   gather(
-      std::ptrdiff_t(work_.size()), threads, chunk_start_, [&](std::ptrdiff_t q) { return rows_[work_[q]].pn > 0; },
+      std::ptrdiff_t(work_.size()), threads, chunk_start_, [&](std::ptrdiff_t q) { return (row_flags_[work_[q]] & kBearing) != 0; },
       [&](std::size_t kept) {
         fit_capacity(active_, kept);
         active_.resize(kept);
       },
       [&](std::ptrdiff_t q, std::size_t k) {
-        const Row& r = rows_[work_[q]];
-        active_[k] = {work_[q], bodies_[r.i].inv_mass > 0 ? r.i : -1, bodies_[r.j].inv_mass > 0 ? r.j : -1, 0};
+        const int c = work_[q];
+        active_[k] = {c, row_bodies_[c][0], row_bodies_[c][1], 0};
       });
   // Clusters by union–find over bodies; a row's cluster is that of one of its mobile bodies.
   cluster_.resize(n);
@@ -606,7 +708,7 @@ void Engine::solve_clusters() {
   cluster_id_.assign(n, -2);
   for (ActiveRow& a : active_) {
     a.cluster = root(a.i >= 0 ? a.i : a.j);
-    if (hot_[a.c]) cluster_id_[a.cluster] = -1;
+    if (row_flags_[a.c] & kHot) cluster_id_[a.cluster] = -1;
   }
   int clusters = 0;
   std::size_t kept = 0;
@@ -639,21 +741,28 @@ void Engine::solve_clusters() {
     if (a.j >= 0) body_rows_[body_start_[a.j] + degree_[a.j]++] = a.c;
   }
 
-  // Small clusters go to the threads whole; large ones, one after the other, share the
-  // threads inside their factorisation (the percolating cluster would keep one thread busy
-  // while the others wait). Both give the same result.
+  // Clusters go to the threads whole, largest first; one that holds more than a thread's
+  // share of all the rows (and at least kSharedClusterRows: the percolating cluster) would
+  // keep one thread busy while the others wait, so it is factorised by all threads together
+  // instead, after the others. The clusters are independent: the same result either way.
   cluster_scratch_.resize(threads);
   large_.clear();
+  cluster_order_.clear();
+  const int shared_at = std::max(kSharedClusterRows, int(active_.size()) / threads);
   for (int k = 0; k < clusters; ++k) {
     const int rows = cluster_start_[k + 1] - cluster_start_[k];
     report_.largest_cluster = std::max(report_.largest_cluster, rows);
-    if (rows >= kSharedClusterRows) large_.push_back(k);
+    (threads > 1 && rows >= shared_at ? large_ : cluster_order_).push_back(k);
   }
+  auto size = [&](int k) { return cluster_start_[k + 1] - cluster_start_[k]; };
+  if (threads > 1)
+    std::stable_sort(cluster_order_.begin(), cluster_order_.end(), [&](int a, int b) { return size(a) > size(b); });
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)
-  for (int k = 0; k < clusters; ++k)
-    if (cluster_start_[k + 1] - cluster_start_[k] < kSharedClusterRows)
-      solve_cluster(k, cluster_scratch_[omp_get_thread_num()], 1);
+  for (std::size_t q = 0; q < cluster_order_.size(); ++q)
+    solve_cluster(cluster_order_[q], cluster_scratch_[omp_get_thread_num()], 1);
   for (int k : large_) solve_cluster(k, cluster_scratch_[0], threads);
+  // Velocities changed only at the bodies of these rows: their tiles are swept next.
+  for (const ActiveRow& a : active_) moved_[row_tile_[a.c]] = touched_[row_tile_[a.c]] = 1;
 }
 
 // The solve of cluster k (see solve_clusters()). Returns false when its factor would be too
@@ -710,20 +819,20 @@ bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
     // self-stresses whose clamping at P_n = 0 would throw the velocities off by orders of
     // magnitude. (A good step may raise the correction a little: the clamping.)
     const double before = cluster_residual(w, threads);
-    for (int u = 0; u < m; ++u) {
-      Row& r = rows_[w.order[u]];
-      const double pn = std::max(0.0, r.pn + w.rhs[u]);
-      w.rhs[u] = r.pn;  // kept for an undo
+    auto set_normal_impulse = [&](int c, double pn) {
+      Row& r = rows_[c];
       apply_normal_impulse(r, pn - r.pn);
       r.pn = pn;
+      row_flags_[c] = (row_flags_[c] & kHot) | (pn > 0 ? kBearing : 0);
+    };
+    for (int u = 0; u < m; ++u) {
+      const double pn = rows_[w.order[u]].pn, solved = std::max(0.0, pn + w.rhs[u]);
+      w.rhs[u] = pn;  // kept for an undo
+      set_normal_impulse(w.order[u], solved);
     }
     accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
     if (!accepted)
-      for (int u = m - 1; u >= 0; --u) {
-        Row& r = rows_[w.order[u]];
-        apply_normal_impulse(r, w.rhs[u] - r.pn);
-        r.pn = w.rhs[u];
-      }
+      for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
   }
   for (int c : w.order) unknown_[c] = -1;
   return accepted;
@@ -855,19 +964,17 @@ void Engine::solve() {
     if (worst < upsilon) {
       // A sweep's own corrections only bound the residual; confirm on the final velocities,
       // on every candidate.
-      const double res = check(true);
+      const double res = check(true);  // marks the tiles still off
       if (res < upsilon) {
         rep.residual = res * dt_;
         return;
       }
-      moved_.assign(strips_, 1);
     } else if (clusters && it >= next_cluster_solve && 100 * status_changes_ <= active_rows_) {
       // The active set has (nearly) settled: solve its clusters exactly. While it keeps
       // changing, each solve waits twice as many sweeps as the one before, so that their
       // number stays logarithmic in the sweeps of the step.
-      solve_clusters();
+      solve_clusters();  // marks the tiles of the rows it solved
       ++rep.cluster_solves;
-      moved_.assign(strips_, 1);
       next_cluster_solve = it + cluster_wait;
       cluster_wait *= 2;
     } else if (it % 16 == 0) {
@@ -993,9 +1100,9 @@ std::size_t Engine::allocated_bytes() const {
               w.ldl.allocated_bytes();
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
-         bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(row_of_) + bytes(row_strip_) + bytes(bodies_) +
-         bytes(rows_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(hot_) +
-         bytes(moved_) + bytes(active_) + bytes(large_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
+         bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(row_tile_) + bytes(bodies_) +
+         bytes(rows_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
+         bytes(moved_) + bytes(touched_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
          bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
          bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +

@@ -42,8 +42,11 @@
 //    first, then odd ones: no two contacts of different strips of one parity share a
 //    grain, so threads sweep them at once (SolverSettings::threads), and the order of
 //    the updates, hence every bit of the result, is the same for any number of threads;
-//    strips that have settled (all corrections below Υ there and next door the last
-//    time round) are skipped;
+//    each strip is cut into tiles (≈ 8 diameters wide; grains and contacts are stored
+//    tile by tile), and tiles that have settled (all corrections below Υ there and in the
+//    eight tiles around the last time round) are skipped: a residual check or a cluster
+//    solve that changes something wakes only the tiles concerned, so the late sweeps of a
+//    large system cost what its few unsettled places cost, not what the system costs;
 //  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
 //    the clusters of active contacts still above the tolerance are solved exactly for
 //    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
@@ -77,6 +80,9 @@ struct SolverSettings {
   // Exact solves of frictionless contact clusters (see above); false: Gauss–Seidel only.
   // Both reach the same converged solution.
   bool cluster_solves = true;
+  // Residual checks over every row every time, instead of only where something changed
+  // since the last one: the same trajectory, bit for bit (a reference for the tests).
+  bool full_checks = false;
   // OpenMP threads for a step. The work is split so that the arithmetic does not depend on
   // it: any thread count gives the same trajectory, bit for bit.
   int threads = 1;
@@ -167,6 +173,9 @@ class Engine {
   void order_bodies();
   void build_rows();
   void build_row(std::size_t c, std::size_t& p);
+  int row_tile(int a, int b, int image) const;
+  bool near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block) const;
+  bool strip_flagged(const std::vector<std::uint8_t>& flags, int strip) const;
   void load_bodies();
   void select_working_set();
   void group_working_set();
@@ -203,20 +212,24 @@ class Engine {
   std::vector<int> bucket_, scratch_;
 
   std::vector<int> body_of_;    // grain → body (internal spatial order)
-  std::vector<int> strip_of_;   // body → strip of the sweep schedule
-  int strips_ = 1;
+  std::vector<int> strip_of_, block_of_;  // body → strip and column block of its tile
+  int strips_ = 1, tiles_ = 1;  // strips, and tiles per strip (tile = strip · tiles_ + block)
   std::vector<int> row_of_;     // candidate → row (sweep order)
-  std::vector<int> row_strip_;  // row → strip: its lower body's (across the periodic boundary, the top one)
+  std::vector<int> row_tile_;   // row → tile (see row_tile())
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
+  std::vector<std::array<int, 2>> row_bodies_;  // per row: its mobile bodies (−1: fixed), compact for the cluster passes
   std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
 
-  // Gauss–Seidel state: the working set (rows grouped by strip, ascending within a strip;
-  // strip s holds work_[work_start_[s]] … work_[work_start_[s + 1] − 1]), its membership,
-  // and per row whether the last sweep still corrected it by Υ or more.
+  // Gauss–Seidel state: the working set (rows grouped by tile, ascending within a tile;
+  // tile t holds work_[work_start_[t]] … work_[work_start_[t + 1] − 1]), its membership,
+  // and per row whether the last sweep still corrected it by Υ or more and whether it carries
+  // a normal impulse (flags kHot, kBearing; without friction only).
   std::vector<int> work_, work_start_;
-  std::vector<std::uint8_t> in_work_, hot_;
-  std::vector<std::uint8_t> moved_;  // per strip: corrected by Υ or more when last swept
+  std::vector<std::uint8_t> in_work_, row_flags_;
+  std::vector<std::uint8_t> moved_;  // per tile: corrected by Υ or more when last swept (or since marked)
+  std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
+  std::vector<int> tile_rows_;  // rows of tile t: tile_rows_[t] … tile_rows_[t + 1] − 1
   int status_changes_ = 0, active_rows_ = 0;
 
   // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
@@ -227,6 +240,7 @@ class Engine {
   };
   std::vector<ActiveRow> active_;
   std::vector<int> large_;  // clusters solved with all threads
+  std::vector<int> cluster_order_;  // the others, in the order the threads take them
   std::vector<std::size_t> chunk_start_;  // first contact of each chunk of candidates
   std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;
