@@ -14,7 +14,7 @@ SHEAR_STRAIN      := 0.2
 SHEAR_STRAIN_STEP := 1e-3
 SHEAR_FRAME_EVERY := 10
 # Chapter 5: the chapter-4 runs plus μ = 0.4 at e = 0; ξ_el from ν = 0.5, e = 0.92;
-# a 2-step cluster window at ν = 0.7.
+# a 10-step cluster window at ν = 0.7 (with 2, 64 grains at e = 0.92 can have no contact in any frame).
 CH5_NU            := $(PACK_NU)
 CH5_E             := $(CH4_E)
 CH5_MU            := 0.00 0.40
@@ -27,7 +27,7 @@ CH5_REFERENCE_NU  := 0.500
 CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.700
 CH5_CLUSTER_E     := 0.92 0.00
-CH5_WINDOW_STEPS  := 2
+CH5_WINDOW_STEPS  := 10
 CH4_FRICTION_NU   := 0.700
 CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
