@@ -510,9 +510,24 @@ void Engine::group_working_set() {
     if (in_work_[c]) work_[bucket_[row_tile_[c]]++] = int(c);
 }
 
-// Whether tile (strip, block) or one of its eight neighbours is flagged; the tiles across the
-// periodic y boundary are taken care of by the caller (see sweep()).
-bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block) const {
+// Which of the two strips next to each other across the periodic y boundary, the first and
+// the last, have a flagged tile (none without that boundary or with a single strip).
+Engine::EdgeFlags Engine::edge_flags(const std::vector<std::uint8_t>& flags) const {
+  if (!box_.periodic_y || strips_ < 2) return {};
+  auto strip_flagged = [&](int strip) {
+    const auto first = flags.begin() + std::ptrdiff_t(strip) * tiles_;
+    return std::find(first, first + tiles_, std::uint8_t(1)) != first + tiles_;
+  };
+  return {strip_flagged(0), strip_flagged(strips_ - 1)};
+}
+
+// Whether tile (strip, block) or one of its eight neighbours is flagged. Across the periodic
+// y boundary the Lees–Edwards offset shifts the columns: the tiles of the first strip count
+// any flagged tile of the last strip as a neighbour, and those of the last strip, whose
+// contacts across it reach grains of the first strip anywhere, any flagged tile of either
+// (edges: edge_flags(flags), taken once by the caller).
+bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block, EdgeFlags edges) const {
+  if ((strip == 0 && edges.last) || (strip == strips_ - 1 && (edges.first || edges.last))) return true;
   const int tiles = tiles_;
   for (int s : {strip - 1, strip, strip + 1}) {
     if (s < 0 || s >= strips_) continue;
@@ -521,12 +536,6 @@ bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int
       return true;
   }
   return false;
-}
-
-// Whether any tile of the strip is flagged.
-bool Engine::strip_flagged(const std::vector<std::uint8_t>& flags, int strip) const {
-  const auto first = flags.begin() + std::ptrdiff_t(strip) * tiles_;
-  return std::find(first, first + tiles_, std::uint8_t(1)) != first + tiles_;
 }
 
 // One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
@@ -544,24 +553,18 @@ double Engine::sweep(bool forward, double upsilon) {
   std::uint8_t* moved = moved_.data();
   std::uint8_t* touched = touched_.data();
   const int threads = settings_.threads, strips = strips_, tiles = tiles_;
-  const bool wrap = box_.periodic_y && strips > 1;
   double worst = 0;
   int changes = 0, active = 0;
   std::int64_t visits = 0;
   for (int half = 0; half < 2; ++half) {
     const int parity = forward ? half : 1 - half;
     const int count = (strips - parity + 1) / 2;  // strips of this parity
-    // Across the periodic y boundary the Lees–Edwards offset shifts the columns: the tiles
-    // of the first strip count any moved tile of the last strip as a neighbour, and those of
-    // the last strip, whose contacts across it reach grains of the first strip anywhere,
-    // any moved tile of either (as of the start of this half: the same for any threads).
-    const bool first_moved = wrap && strip_flagged(moved_, 0);
-    const bool last_moved = wrap && strip_flagged(moved_, strips - 1);
+    // The edge strips as of the start of this half: the same for any number of threads.
+    const EdgeFlags edges = edge_flags(moved_);
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic, 1) \
     reduction(max : worst) reduction(+ : changes, active, visits)
     for (int t = 0; t < count; ++t) {
       const int strip = parity + 2 * t;
-      const bool across = wrap && ((strip == 0 && last_moved) || (strip == strips - 1 && (first_moved || last_moved)));
       // The rows of one tile in sweep order; returns the largest correction.
       auto sweep_rows = [&](int first, int last) {
         double tile_worst = 0;
@@ -614,7 +617,7 @@ double Engine::sweep(bool forward, double upsilon) {
         const int tile = strip * tiles + block;
         // A tile whose corrections and whose neighbours' (the last time each was swept) all
         // stayed below Υ has settled; check() confirms it at the end.
-        if (!across && !near_flagged(moved_, strip, block)) continue;
+        if (!near_flagged(moved_, strip, block, edges)) continue;
         const double tile_worst = sweep_rows(start[tile], start[tile + 1]);
         moved[tile] = tile_worst >= upsilon;
         touched[tile] = 1;
@@ -640,8 +643,7 @@ double Engine::check(bool everywhere) {
   const double mu = material_.friction, upsilon = settings_.tolerance / dt_;
   std::uint8_t* moved = moved_.data();
   const int strips = strips_, tiles = tiles_;
-  const bool wrap = box_.periodic_y && strips > 1;
-  const bool first_touched = wrap && strip_flagged(touched_, 0), last_touched = wrap && strip_flagged(touched_, strips - 1);
+  const EdgeFlags edges = edge_flags(touched_);
   double worst = 0;
   std::int64_t visited = 0;
   bool joined = false;
@@ -649,9 +651,7 @@ double Engine::check(bool everywhere) {
     reduction(max : worst) reduction(+ : visited) reduction(|| : joined)
   for (int tile = 0; tile < strips * tiles; ++tile) {
     const int strip = tile / tiles, block = tile % tiles;
-    if (everywhere && !(wrap && ((strip == 0 && last_touched) || (strip == strips - 1 && (first_touched || last_touched)))) &&
-        !near_flagged(touched_, strip, block))
-      continue;
+    if (everywhere && !near_flagged(touched_, strip, block, edges)) continue;
     for (int c = tile_rows_[tile]; c < tile_rows_[tile + 1]; ++c) {
       if (!everywhere && in_work_[c]) continue;
       const Row& r = rows_[c];

@@ -174,8 +174,11 @@ class Engine {
   void build_rows();
   void build_row(std::size_t c, std::size_t& p);
   int row_tile(int a, int b, int image) const;
-  bool near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block) const;
-  bool strip_flagged(const std::vector<std::uint8_t>& flags, int strip) const;
+  struct EdgeFlags {
+    bool first = false, last = false;
+  };
+  EdgeFlags edge_flags(const std::vector<std::uint8_t>& flags) const;
+  bool near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block, EdgeFlags edges) const;
   void load_bodies();
   void select_working_set();
   void group_working_set();
