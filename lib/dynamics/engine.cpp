@@ -1,6 +1,7 @@
 #include "dynamics/engine.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -693,22 +694,49 @@ void Engine::solve_clusters() {
         active_[k] = {c, row_bodies_[c][0], row_bodies_[c][1], 0};
       });
   // Clusters by union–find over bodies; a row's cluster is that of one of its mobile bodies.
+  // Links always go from the larger root to the smaller, so every cluster's root ends as its
+  // smallest body whatever the order of the unions: the threads unite rows concurrently
+  // (a link is a compare-and-swap that fails if its root was linked meanwhile; path halving
+  // only ever points a body at one of its ancestors) and the result is the same for any N.
+  const std::ptrdiff_t rows = std::ptrdiff_t(active_.size());
   cluster_.resize(n);
-  for (int b = 0; b < n; ++b) cluster_[b] = b;
+  cluster_id_.resize(n);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (int b = 0; b < n; ++b) {
+    cluster_[b] = b;
+    cluster_id_[b] = -2;
+  }
+  // Relaxed atomics (plain moves on x86) and the compare-and-swap only with threads: a
+  // locked instruction per link would cost one thread a quarter of the union–find.
+  const bool shared = threads > 1;
+  auto parent = [&](int b) { return std::atomic_ref<int>(cluster_[b]); };
   auto root = [&](int b) {
-    while (cluster_[b] != b) b = cluster_[b] = cluster_[cluster_[b]];
+    for (int p; (p = parent(b).load(std::memory_order_relaxed)) != b;) {
+      const int grandparent = parent(p).load(std::memory_order_relaxed);
+      parent(b).store(grandparent, std::memory_order_relaxed);
+      b = grandparent;
+    }
     return b;
   };
-  for (const ActiveRow& a : active_)
-    if (a.i >= 0 && a.j >= 0) {
+  auto link = [&](int x, int y) {  // x > y; false if x is no longer a root
+    if (!shared) return cluster_[x] = y, true;
+    return parent(x).compare_exchange_strong(x, y, std::memory_order_relaxed);
+  };
+#pragma omp parallel for num_threads(threads) if (shared) schedule(static)
+  for (std::ptrdiff_t q = 0; q < rows; ++q) {
+    const ActiveRow& a = active_[q];
+    if (a.i < 0 || a.j < 0) continue;
+    for (;;) {
       const int x = root(a.i), y = root(a.j);
-      if (x != y) cluster_[std::max(x, y)] = std::min(x, y);
+      if (x == y || link(std::max(x, y), std::min(x, y))) break;
     }
+  }
   // Hot clusters are numbered in order of appearance; cluster_id_ per root: −2 cold, −1 hot.
-  cluster_id_.assign(n, -2);
-  for (ActiveRow& a : active_) {
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (std::ptrdiff_t q = 0; q < rows; ++q) {
+    ActiveRow& a = active_[q];
     a.cluster = root(a.i >= 0 ? a.i : a.j);
-    if (row_flags_[a.c] & kHot) cluster_id_[a.cluster] = -1;
+    if (row_flags_[a.c] & kHot) std::atomic_ref<int>(cluster_id_[a.cluster]).store(-1, std::memory_order_relaxed);
   }
   int clusters = 0;
   std::size_t kept = 0;
