@@ -488,6 +488,7 @@ void Engine::select_working_set() {
   unknown_.assign(count, -1);
   moved_.assign(std::size_t(strips_) * tiles_, 1);
   touched_.assign(std::size_t(strips_) * tiles_, 1);  // the first check of a step is everywhere
+  tile_residual_.resize(touched_.size());
 #pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::ptrdiff_t c = 0; c < count; ++c) {
     const Row& r = rows_[c];
@@ -639,7 +640,7 @@ double Engine::sweep(bool forward, double upsilon) {
 // a row's residual depends on its impulse and its bodies' velocities only, which only the
 // rows of its own or the eight neighbouring tiles change (see row_tile()), so tiles away
 // from any tile swept or solved since then keep the residuals found then (all below Υ,
-// or their tiles would have been swept).
+// or their tiles would have been swept), and the largest of those counts as found again.
 double Engine::check(bool everywhere) {
   const double mu = material_.friction, upsilon = settings_.tolerance / dt_;
   std::uint8_t* moved = moved_.data();
@@ -652,12 +653,16 @@ double Engine::check(bool everywhere) {
     reduction(max : worst) reduction(+ : visited) reduction(|| : joined)
   for (int tile = 0; tile < strips * tiles; ++tile) {
     const int strip = tile / tiles, block = tile % tiles;
-    if (everywhere && !near_flagged(touched_, strip, block, edges)) continue;
+    if (everywhere && !near_flagged(touched_, strip, block, edges)) {
+      worst = std::max(worst, tile_residual_[tile]);  // unchanged since found
+      continue;
+    }
+    double tile_worst = 0;
     for (int c = tile_rows_[tile]; c < tile_rows_[tile + 1]; ++c) {
       if (!everywhere && in_work_[c]) continue;
       const Row& r = rows_[c];
       const double corr = correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu));
-      worst = std::max(worst, corr);
+      tile_worst = std::max(tile_worst, corr);
       ++visited;
       const bool joins = corr > 0 && !in_work_[c];
       if (joins) {
@@ -667,6 +672,8 @@ double Engine::check(bool everywhere) {
       }
       if (joins || corr >= upsilon) moved[tile] = 1;
     }
+    if (everywhere) tile_residual_[tile] = tile_worst;
+    worst = std::max(worst, tile_worst);
   }
   if (everywhere && !settings_.full_checks) std::fill(touched_.begin(), touched_.end(), 0);
   report_.contact_updates += visited;
@@ -1130,7 +1137,7 @@ std::size_t Engine::allocated_bytes() const {
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
          bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(row_tile_) + bytes(bodies_) +
          bytes(rows_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
-         bytes(moved_) + bytes(touched_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
+         bytes(moved_) + bytes(touched_) + bytes(tile_residual_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
          bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
          bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +

@@ -232,6 +232,7 @@ class Engine {
   std::vector<std::uint8_t> in_work_, row_flags_;
   std::vector<std::uint8_t> moved_;  // per tile: corrected by Υ or more when last swept (or since marked)
   std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
+  std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
   std::vector<int> tile_rows_;  // rows of tile t: tile_rows_[t] … tile_rows_[t + 1] − 1
   int status_changes_ = 0, active_rows_ = 0;
 

@@ -445,19 +445,22 @@ TEST(Threads, SameTrajectoryWithSharedClusterFactor) {
 
 // The residual check that ends a step looks again only where a sweep or a cluster solve
 // changed something since the last one; elsewhere the residuals cannot have changed, so
-// the trajectory is the same to the last bit as with every row checked every time.
+// the trajectory is the same to the last bit as with every row checked every time, and so
+// is the reported residual (8000 grains: with the largest over the rows looked at only, it
+// came out up to 10⁵ times too small in 3 of the first 20 steps).
 TEST(Solver, PartialChecksAreExact) {
-  test::Packing p = test::random_packing(2000, 0.8, 61);
+  test::Packing p = test::random_packing(8000, 0.8, 61);
   add_affine_flow(p.state, p.box, 1.0);
   const Material mat{0.5, 0.0, 0.0};
   SolverSettings full;
   full.full_checks = true;
   Engine a(p.state, p.box, 1.0, mat, {}, 1e-3), b(p.state, p.box, 1.0, mat, full, 1e-3);
   std::int64_t updates_a = 0, updates_b = 0;
-  for (int k = 0; k < 40; ++k) {
+  for (int k = 0; k < 20; ++k) {
     updates_a += a.step().contact_updates;
     updates_b += b.step().contact_updates;
     ASSERT_TRUE(a.last_report().converged);
+    ASSERT_EQ(a.last_report().residual, b.last_report().residual);  // the true largest, not that of the rows looked at
   }
   std::cout << "Solver: " << updates_a << " contact updates with partial checks, " << updates_b << " with full ones\n";
   EXPECT_LT(updates_a, updates_b);  // some checks were partial
