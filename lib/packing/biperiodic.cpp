@@ -259,7 +259,7 @@ Packing make_biperiodic_packing(const PackingParams& p,
   }
   // Grains numbered band by band (one diameter high, by x within a band): the engine reads
   // its per-grain arrays in grain order, and neighbours in space are then near in memory
-  // (N = 10⁵ shears ~25 % faster). The radii are drawn independently, so nothing is biased.
+  // (N = 10⁵: a few % per sweep). The radii are drawn independently, so nothing is biased.
   std::sort(start.begin(), start.end(), [&](const Vec2& a, const Vec2& b) {
     const int ra = int(a.y() / sigma), rb = int(b.y() / sigma);
     return ra != rb ? ra < rb : a.x() < b.x();

@@ -169,7 +169,7 @@ TEST(BiperiodicPacking, DenseFlowPackingIsExactAndOverlapFree) {
 
 TEST(BiperiodicPacking, GrainsAreNumberedBandByBand) {
   // The engine's per-grain arrays are read in grain order: numbered along bands one
-  // diameter high, neighbours in space are near in memory (N = 10⁵ shears ~25 % faster).
+  // diameter high, neighbours in space are near in memory (N = 10⁵: a few % per sweep).
   // Growth and relaxation move a grain by about a diameter at most, so consecutive grains
   // mostly lie within two diameters in y.
   const PackingParams p = params(2000, 0.8);
