@@ -320,12 +320,7 @@ void Engine::build_rows() {
   for (int t = 0; t < tiles; ++t) bucket_[t + 1] += bucket_[t];
   tile_rows_.assign(bucket_.begin(), bucket_.end());
   refill(row_of_, count);
-  refill(row_tile_, count);
-  for (std::size_t c = 0; c < count; ++c) {
-    const int t = tile(candidates_[c]);
-    row_of_[c] = bucket_[t]++;
-    row_tile_[row_of_[c]] = t;
-  }
+  for (std::size_t c = 0; c < count; ++c) row_of_[c] = bucket_[tile(candidates_[c])]++;
   refill(rows_, count);
   refill(row_bodies_, count);
   refill(row_age_, count);
@@ -499,17 +494,19 @@ void Engine::select_working_set() {
   group_working_set();
 }
 
-// Lists the working set tile by tile, rows ascending within each: the order of the sweeps.
+// Lists the working set tile by tile, rows ascending within each: the order of the sweeps
+// (rows are stored tile by tile, so that is ascending row order).
 void Engine::group_working_set() {
   const int tiles = strips_ * tiles_;
-  work_start_.assign(tiles + 1, 0);
-  for (std::size_t c = 0; c < rows_.size(); ++c)
-    if (in_work_[c]) ++work_start_[row_tile_[c] + 1];
-  for (int t = 0; t < tiles; ++t) work_start_[t + 1] += work_start_[t];
-  work_.resize(work_start_[tiles]);
-  bucket_.assign(work_start_.begin(), work_start_.end() - 1);
-  for (std::size_t c = 0; c < rows_.size(); ++c)
-    if (in_work_[c]) work_[bucket_[row_tile_[c]]++] = int(c);
+  work_.resize(std::count(in_work_.begin(), in_work_.end(), std::uint8_t(1)));
+  work_start_.resize(tiles + 1);
+  int q = 0;
+  for (int t = 0; t < tiles; ++t) {
+    work_start_[t] = q;
+    for (int c = tile_rows_[t]; c < tile_rows_[t + 1]; ++c)
+      if (in_work_[c]) work_[q++] = c;
+  }
+  work_start_[tiles] = q;
 }
 
 // Which of the two strips next to each other across the periodic y boundary, the first and
@@ -541,9 +538,10 @@ bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int
 }
 
 // One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
-// the other, tile by tile along each strip; backwards, the exact reverse. Returns the largest correction made. The
-// frictionless sweep also counts status changes (P_n > 0 or not) and active rows, and marks
-// the rows still corrected by Υ or more, for the cluster solves.
+// the other, tile by tile along each strip; backwards, the exact reverse. Returns the
+// largest correction made. The frictionless sweep also counts status changes (P_n > 0 or
+// not) and active rows, and marks the rows still corrected by Υ or more, for the cluster
+// solves.
 template <bool Friction>
 double Engine::sweep(bool forward, double upsilon) {
   const double mu = material_.friction;
@@ -796,8 +794,13 @@ void Engine::solve_clusters() {
   for (std::size_t q = 0; q < cluster_order_.size(); ++q)
     solve_cluster(cluster_order_[q], cluster_scratch_[omp_get_thread_num()], 1);
   for (int k : large_) solve_cluster(k, cluster_scratch_[0], threads);
-  // Velocities changed only at the bodies of these rows: their tiles are swept next.
-  for (const ActiveRow& a : active_) moved_[row_tile_[a.c]] = touched_[row_tile_[a.c]] = 1;
+  // Velocities changed only at the bodies of these rows: their tiles are swept next (the
+  // rows are in ascending order, as in the working set, and rows are stored tile by tile).
+  int tile = 0;
+  for (const ActiveRow& a : active_) {
+    while (tile_rows_[tile + 1] <= a.c) ++tile;
+    moved_[tile] = touched_[tile] = 1;
+  }
 }
 
 // The solve of cluster k (see solve_clusters()). Returns false when its factor would be too
@@ -1135,7 +1138,7 @@ std::size_t Engine::allocated_bytes() const {
               w.ldl.allocated_bytes();
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
-         bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(row_tile_) + bytes(bodies_) +
+         bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(bodies_) +
          bytes(rows_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
          bytes(moved_) + bytes(touched_) + bytes(tile_residual_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
          bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +

@@ -218,7 +218,6 @@ class Engine {
   std::vector<int> strip_of_, block_of_;  // body → strip and column block of its tile
   int strips_ = 1, tiles_ = 1;  // strips, and tiles per strip (tile = strip · tiles_ + block)
   std::vector<int> row_of_;     // candidate → row (sweep order)
-  std::vector<int> row_tile_;   // row → tile (see row_tile())
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
   std::vector<std::array<int, 2>> row_bodies_;  // per row: its mobile bodies (−1: fixed), compact for the cluster passes
@@ -233,7 +232,7 @@ class Engine {
   std::vector<std::uint8_t> moved_;  // per tile: corrected by Υ or more when last swept (or since marked)
   std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
   std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
-  std::vector<int> tile_rows_;  // rows of tile t: tile_rows_[t] … tile_rows_[t + 1] − 1
+  std::vector<int> tile_rows_;  // rows of tile t (see row_tile()): tile_rows_[t] … tile_rows_[t + 1] − 1
   int status_changes_ = 0, active_rows_ = 0;
 
   // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
