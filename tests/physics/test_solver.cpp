@@ -273,7 +273,7 @@ double largest_velocity_difference(const GrainState& s, const Eigen::VectorXd& q
 // energy), so a step of the engine, with its working set, warm start, spatial order,
 // skipped tiles and cluster solves, must land on the reference's. Both are converged far
 // below the default tolerance so that only the solution, not the stopping point, is
-// compared. 1500 grains make a box of three tiles across and fifteen strips.
+// compared. 1500 grains make a box of three tiles across and fourteen strips.
 TEST(Solver, FrictionlessStepMatchesPlainGaussSeidel) {
   for (auto [clusters, grains] : {std::pair(true, 250), std::pair(false, 250), std::pair(true, 1500)}) {
     SCOPED_TRACE(clusters);
