@@ -565,15 +565,21 @@ double Engine::sweep(bool forward, double upsilon) {
     reduction(max : worst) reduction(+ : changes, active, visits)
     for (int t = 0; t < count; ++t) {
       const int strip = parity + 2 * t;
-      // The rows of one tile in sweep order; returns the largest correction.
+      // The rows of one tile in sweep order; returns the largest correction. Counters and
+      // pointers are copied into locals: the byte stores to the flags may alias anything, and
+      // would otherwise send them through memory on every row.
       auto sweep_rows = [&](int first, int last) {
+        const int* const work_rows = work;
+        Row* const row_data = rows;
+        Body* const body_data = bodies;
+        std::uint8_t* const row_flags = flags;
         double tile_worst = 0;
-        visits += last - first;
+        int tile_changes = 0, tile_active = 0;
         for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
-          const int c = work[q];
-          Row& r = rows[c];
-          Body& a = bodies[r.i];
-          Body& b = bodies[r.j];
+          const int c = work_rows[q];
+          Row& r = row_data[c];
+          Body& a = body_data[r.i];
+          Body& b = body_data[r.j];
           const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
           const double un = dvx * r.nx + dvy * r.ny;
           const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
@@ -599,9 +605,9 @@ double Engine::sweep(bool forward, double upsilon) {
             // μ = 0: P_t stays 0 and the spins never change.
             const double d = std::fabs(dpn);
             if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
-            changes += (pn > 0) != (r.pn > 0);
-            active += pn > 0;
-            flags[c] = (d >= upsilon * r.inv_w ? kHot : 0) | (pn > 0 ? kBearing : 0);
+            tile_changes += (pn > 0) != (r.pn > 0);
+            tile_active += pn > 0;
+            row_flags[c] = (d >= upsilon * r.inv_w ? kHot : 0) | (pn > 0 ? kBearing : 0);
             r.pn = pn;
             const double px = dpn * r.nx, py = dpn * r.ny;
             a.vx += a.inv_mass * px;
@@ -610,6 +616,9 @@ double Engine::sweep(bool forward, double upsilon) {
             b.vy -= b.inv_mass * py;
           }
         }
+        visits += last - first;
+        changes += tile_changes;
+        active += tile_active;
         return tile_worst;
       };
       for (int step = 0; step < tiles; ++step) {
@@ -639,6 +648,8 @@ double Engine::sweep(bool forward, double upsilon) {
 // rows of its own or the eight neighbouring tiles change (see row_tile()), so tiles away
 // from any tile swept or solved since then keep the residuals found then (all below Υ,
 // or their tiles would have been swept), and the largest of those counts as found again.
+// The rows outside the working set there all had a zero correction (else they would have
+// joined), and still have: the check outside it skips those tiles as well.
 double Engine::check(bool everywhere) {
   const double mu = material_.friction, upsilon = settings_.tolerance / dt_;
   std::uint8_t* moved = moved_.data();
@@ -651,8 +662,8 @@ double Engine::check(bool everywhere) {
     reduction(max : worst) reduction(+ : visited) reduction(|| : joined)
   for (int tile = 0; tile < strips * tiles; ++tile) {
     const int strip = tile / tiles, block = tile % tiles;
-    if (everywhere && !near_flagged(touched_, strip, block, edges)) {
-      worst = std::max(worst, tile_residual_[tile]);  // unchanged since found
+    if (!near_flagged(touched_, strip, block, edges)) {
+      if (everywhere) worst = std::max(worst, tile_residual_[tile]);  // unchanged since found
       continue;
     }
     double tile_worst = 0;
@@ -783,9 +794,9 @@ void Engine::solve_clusters() {
   cluster_order_.clear();
   const int shared_at = std::max(kSharedClusterRows, int(active_.size()) / threads);
   for (int k = 0; k < clusters; ++k) {
-    const int rows = cluster_start_[k + 1] - cluster_start_[k];
-    report_.largest_cluster = std::max(report_.largest_cluster, rows);
-    (threads > 1 && rows >= shared_at ? large_ : cluster_order_).push_back(k);
+    const int size = cluster_start_[k + 1] - cluster_start_[k];
+    report_.largest_cluster = std::max(report_.largest_cluster, size);
+    (threads > 1 && size >= shared_at ? large_ : cluster_order_).push_back(k);
   }
   auto size = [&](int k) { return cluster_start_[k + 1] - cluster_start_[k]; };
   if (threads > 1)
