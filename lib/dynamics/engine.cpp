@@ -479,7 +479,7 @@ void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_s
 void Engine::select_working_set() {
   const std::ptrdiff_t count = std::ptrdiff_t(rows_.size());
   in_work_.resize(count);
-  row_flags_.assign(count, kHot);
+  row_flags_.resize(count);
   unknown_.assign(count, -1);
   moved_.assign(std::size_t(strips_) * tiles_, 1);
   touched_.assign(std::size_t(strips_) * tiles_, 1);  // the first check of a step is everywhere
@@ -490,6 +490,7 @@ void Engine::select_working_set() {
     const Body &a = bodies_[r.i], &b = bodies_[r.j];
     const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
     in_work_[c] = r.pn > 0 || un - r.bn < vrel_;
+    row_flags_[c] = kHot | (r.pn > 0 ? kBearing : 0);
   }
   group_working_set();
 }
@@ -1083,9 +1084,16 @@ void Engine::record_contacts() {
     prev_ft_[q] = ft;
     prev_age_[q] = age;
   };
+  // Without friction the flags say which rows bear (kBearing exactly when P_n > 0), and
+  // they take a byte per row where the rows take a cache line: reading them keeps this
+  // pass, in candidate order and not in row order, out of the large rows.
+  const bool flagged = material_.friction == 0;
   gather(
       std::ptrdiff_t(candidates_.size()), settings_.threads, chunk_start_,
-      [&](std::ptrdiff_t c) { return rows_[row_of_[c]].pn > 0; }, resize, record);
+      [&](std::ptrdiff_t c) {
+        return flagged ? (row_flags_[row_of_[c]] & kBearing) != 0 : rows_[row_of_[c]].pn > 0;
+      },
+      resize, record);
   report_.candidates = int(rows_.size());
   report_.contacts = int(records_.size());
 }
