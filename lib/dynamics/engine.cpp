@@ -52,6 +52,7 @@ void validate(const GrainState& s, const Box& box, double rate, const Material& 
               const SolverSettings& set, double dt, const Vec2& gravity) {
   const std::size_t n = s.size();
   require(n > 0, "no grains");
+  require(n < (std::size_t(1) << 30), "more than 2^30 grains");
   require(s.velocity.size() == n && s.orientation.size() == n && s.angular_velocity.size() == n &&
               s.radius.size() == n && s.mass.size() == n && s.fixed.size() == n,
           "grain arrays have inconsistent lengths");
@@ -195,7 +196,7 @@ double Engine::select_candidates(std::size_t first, std::size_t last, std::vecto
     const double gap = std::sqrt(dx * dx + dy * dy) - radius[i] - radius[j];
     if (gap >= alert_) continue;
     overlap = std::max(overlap, -gap);
-    out.push_back({i, j, k, dx, dy});
+    out.emplace_back(i, j, k, dx, dy);
   }
   return overlap;
 }
@@ -313,7 +314,7 @@ int Engine::row_tile(int a, int b, int image) const {
 // stored in sweep order: by tile, ties in candidate order.
 void Engine::build_rows() {
   const std::size_t count = candidates_.size();
-  auto tile = [&](const Candidate& k) { return row_tile(body_of_[k.i], body_of_[k.j], k.image); };
+  auto tile = [&](const Candidate& k) { return row_tile(body_of_[k.i], body_of_[k.j()], k.image()); };
   const int tiles = strips_ * tiles_;
   bucket_.assign(tiles + 1, 0);
   for (const Candidate& k : candidates_) ++bucket_[tile(k) + 1];
@@ -332,7 +333,7 @@ void Engine::build_rows() {
   for (std::ptrdiff_t h = 0; h < chunks; ++h) {
     const std::size_t first = h * chunk, last = std::min(count, std::size_t(first + chunk));
     std::size_t p = std::lower_bound(prev_key_.begin(), prev_key_.end(),
-                                     pair_key(candidates_[first].i, candidates_[first].j)) - prev_key_.begin();
+                                     pair_key(candidates_[first].i, candidates_[first].j())) - prev_key_.begin();
     for (std::size_t c = first; c < last; ++c) build_row(c, p);
   }
 }
@@ -341,12 +342,12 @@ void Engine::build_rows() {
 void Engine::build_row(std::size_t c, std::size_t& p) {
   const double e = material_.restitution, et = material_.tangential_restitution;
   const Candidate& k = candidates_[c];
-  const int i = k.i, j = k.j;
+  const int i = k.i, j = k.j();
   const double dist = std::sqrt(k.dx * k.dx + k.dy * k.dy);
   const double nx = k.dx / dist, ny = k.dy / dist;
   const double ri = state_.radius[i], rj = state_.radius[j];
   const double gap = dist - ri - rj;
-  const double shift = k.image * rate_ * box_.ly;  // x-velocity of j's image relative to j
+  const double shift = k.image() * rate_ * box_.ly;  // x-velocity of j's image relative to j
   const double dvx = state_.velocity[i].x() - state_.velocity[j].x() - shift;
   const double dvy = state_.velocity[i].y() - state_.velocity[j].y();
   const double un = dvx * nx + dvy * ny;
@@ -1064,12 +1065,12 @@ void Engine::record_contacts() {
   auto record = [&](std::ptrdiff_t c, std::size_t q) {
     const Row& r = rows_[row_of_[c]];
     const Candidate& k = candidates_[c];
-    const int i = k.i, j = k.j;
+    const int i = k.i, j = k.j();
     const int age = row_age_[c] + 1;
     const Vec2 n(r.nx, r.ny);
     const Vec2 vi = fluctuating_velocity(state_, box_, rate_, i);
     const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
-    const double shift = k.image * rate_ * box_.ly;
+    const double shift = k.image() * rate_ * box_.ly;
     const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
     const double fn = r.pn / dt_, ft = r.pt / dt_;
     records_.pair[q] = {i, j};

@@ -162,10 +162,17 @@ class Engine {
     double inv_w;   // 1/W_nn = reduced mass; 1/W_tt = inv_w/3
     double pn, pt;
   };
+  // 24 bytes: grain j and the image k share a word (N < 2³⁰ grains, |k| ≤ 1).
   struct Candidate {
-    int i, j, image;  // grains, i < j; image = k
-    double dx, dy;    // r_i − r_j (minimum image)
+    int i;                 // grain i < j
+    std::uint32_t packed;  // j | (k + 1) << 30
+    double dx, dy;         // r_i − r_j (minimum image)
+    Candidate(int i_, int j_, int image_, double dx_, double dy_)
+        : i(i_), packed(std::uint32_t(j_) | std::uint32_t(image_ + 1) << 30), dx(dx_), dy(dy_) {}
+    int j() const { return int(packed & 0x3fffffffu); }
+    int image() const { return int(packed >> 30) - 1; }
   };
+  static_assert(sizeof(Candidate) == 24);
 
   void detect(bool moved);
   double select_candidates(std::size_t first, std::size_t last, std::vector<Candidate>& out) const;
