@@ -795,12 +795,11 @@ void Engine::solve_clusters() {
   large_.clear();
   cluster_order_.clear();
   const int shared_at = std::max(kSharedClusterRows, int(active_.size()) / threads);
-  for (int k = 0; k < clusters; ++k) {
-    const int size = cluster_start_[k + 1] - cluster_start_[k];
-    report_.largest_cluster = std::max(report_.largest_cluster, size);
-    (threads > 1 && size >= shared_at ? large_ : cluster_order_).push_back(k);
-  }
   auto size = [&](int k) { return cluster_start_[k + 1] - cluster_start_[k]; };
+  for (int k = 0; k < clusters; ++k) {
+    report_.largest_cluster = std::max(report_.largest_cluster, size(k));
+    (threads > 1 && size(k) >= shared_at ? large_ : cluster_order_).push_back(k);
+  }
   if (threads > 1)
     std::stable_sort(cluster_order_.begin(), cluster_order_.end(), [&](int a, int b) { return size(a) > size(b); });
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)

@@ -298,8 +298,6 @@ TEST(Solver, FrictionlessStepMatchesPlainGaussSeidel) {
   }
 }
 
-// With friction the impulses, even the velocities, need not be unique; at moderate density
-// the step is, and engine and reference agree.
 // The recorded contacts are every impulse of the step: each grain's change of momentum (and,
 // with friction, of angular momentum) is the sum of its recorded forces × dt, to round-off.
 // A contact left out of the records, or a record with no impulse behind it, breaks this for
@@ -309,7 +307,7 @@ TEST(Solver, RecordsHoldEveryImpulse) {
     SCOPED_TRACE(mu);
     const Material mat{0.5, 0.0, mu};
     // μ = 0 reads the bearing rows from the sweep flags, μ > 0 from the impulses.
-    Engine engine = mu == 0 ? warm_shear(mat, 0.8, SolverSettings{}, 1500) : warm_shear(mat, 0.8, SolverSettings{}, 300);
+    Engine engine = warm_shear(mat, 0.8, SolverSettings{}, mu == 0 ? 1500 : 300);
     const GrainState before = engine.state();
     const double dt = engine.dt(), jump = engine.rate() * engine.box().ly;
     const StepReport& r = engine.step();
@@ -346,6 +344,8 @@ TEST(Solver, RecordsHoldEveryImpulse) {
   }
 }
 
+// With friction the impulses, even the velocities, need not be unique; at moderate density
+// the step is, and engine and reference agree.
 TEST(Solver, FrictionalStepMatchesPlainGaussSeidel) {
   SolverSettings settings;
   settings.tolerance = 1e-14;
