@@ -547,11 +547,7 @@ bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int
 template <bool Friction>
 double Engine::sweep(bool forward, double upsilon) {
   const double mu = material_.friction;
-  const int* work = work_.data();
   const int* start = work_start_.data();
-  Body* bodies = bodies_.data();
-  Row* rows = rows_.data();
-  std::uint8_t* flags = row_flags_.data();
   std::uint8_t* moved = moved_.data();
   std::uint8_t* touched = touched_.data();
   const int threads = settings_.threads, strips = strips_, tiles = tiles_;
@@ -568,13 +564,13 @@ double Engine::sweep(bool forward, double upsilon) {
     for (int t = 0; t < count; ++t) {
       const int strip = parity + 2 * t;
       // The rows of one tile in sweep order; returns the largest correction. Counters and
-      // pointers are copied into locals: the byte stores to the flags may alias anything, and
-      // would otherwise send them through memory on every row.
+      // pointers are locals: the byte stores to the flags may alias anything, and would
+      // otherwise send them through memory on every row.
       auto sweep_rows = [&](int first, int last) {
-        const int* const work_rows = work;
-        Row* const row_data = rows;
-        Body* const body_data = bodies;
-        std::uint8_t* const row_flags = flags;
+        const int* const work_rows = work_.data();
+        Row* const row_data = rows_.data();
+        Body* const body_data = bodies_.data();
+        std::uint8_t* const row_flags = row_flags_.data();
         double tile_worst = 0;
         int tile_changes = 0, tile_active = 0;
         for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
