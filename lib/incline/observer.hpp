@@ -21,7 +21,7 @@
 
 #include "dynamics/engine.hpp"
 #include "incline/profiles.hpp"
-#include "incline/steady.hpp"
+#include "statistics/steady.hpp"
 #include "io/trajectory.hpp"
 
 namespace granflow {

@@ -15,7 +15,7 @@
 #include "dynamics/engine.hpp"
 #include "incline/observer.hpp"
 #include "incline/profiles.hpp"
-#include "incline/steady.hpp"
+#include "statistics/steady.hpp"
 #include "io/trajectory.hpp"
 
 namespace granflow {
@@ -255,6 +255,34 @@ TEST(SteadyDetection, StationarySeriesIsKeptAndDriftIsFlagged) {
   // Too short to judge.
   EXPECT_FALSE(detect_steady({{1.0, 1.1, 0.9}}).steady);
   EXPECT_EQ(mser_truncation(std::vector<double>{3.0}), 0u);
+}
+
+// mser_first_row: MSER on block means of per-row series, the latest truncation, as a row.
+TEST(SteadyDetection, FirstRowOfPerRowSeriesIsTheLatestBlockTruncation) {
+  // 1000 rows in 100 blocks of 10: a ramp over the first 300 rows, then constant plus a
+  // small wiggle; a second series steady from the start.
+  std::vector<double> ramp(1000), flat(1000);
+  for (std::size_t i = 0; i < 1000; ++i) {
+    ramp[i] = std::min(1.0, double(i) / 300.0) + 1e-3 * std::sin(0.7 * double(i));
+    flat[i] = 2 + 1e-3 * std::cos(0.3 * double(i));
+  }
+  const std::size_t row = mser_first_row({ramp, flat});
+  EXPECT_EQ(row % 10, 0u);
+  EXPECT_GE(row, 280u);
+  EXPECT_LE(row, 310u);
+  // It is MSER of the block means, times the block length, and the later series wins.
+  std::vector<double> means(100);
+  for (std::size_t b = 0; b < 100; ++b)
+    for (std::size_t r = 0; r < 10; ++r) means[b] += ramp[10 * b + r] / 10;
+  EXPECT_EQ(row, 10 * mser_truncation(means));
+  EXPECT_EQ(mser_first_row({flat, ramp}), row);
+  // Rows left over past the last whole block belong to none: 1009 rows, the same blocks.
+  ramp.resize(1009, 1.0);
+  flat.resize(1009, 2.0);
+  EXPECT_EQ(mser_first_row({ramp, flat}), row);
+  // Fewer rows than blocks: a block per row.
+  EXPECT_EQ(mser_first_row({{0.0, 1.0, 1.1, 0.9, 1.05, 0.95}}), 1u);
+  EXPECT_EQ(mser_first_row({}), 0u);
 }
 
 TEST(SteadyDetection, ChosenStartIsCheckedToo) {

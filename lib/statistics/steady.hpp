@@ -1,6 +1,8 @@
 #pragma once
 // Where a run's steady state starts, from series of block means (one value per time
 // block of equal length): MSER truncation, then a check that what is left is stationary.
+// gf-incline applies it to flow rate and kinetic energy, gf-correlate (and the pipelines'
+// steady_state.py, with the same rule) to T and p of shear runs.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -31,5 +33,11 @@ SteadyState detect_steady(const std::vector<std::vector<double>>& series);
 
 // The same check for a steady part chosen by the user from block `first` on.
 SteadyState steady_from(const std::vector<std::vector<double>>& series, std::size_t first);
+
+// First row of the steady part of per-row series (equal lengths): each is cut into
+// `blocks` blocks of max(1, rows / blocks) rows (rows left over at the end belong to
+// none), MSER picks a truncation of each one's block means, and the latest wins; returned
+// as a row (0 for an empty series).
+std::size_t mser_first_row(const std::vector<std::vector<double>>& series, std::size_t blocks = 100);
 
 }  // namespace granflow

@@ -1,4 +1,4 @@
-#include "incline/steady.hpp"
+#include "statistics/steady.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +65,23 @@ SteadyState steady_from(const std::vector<std::vector<double>>& series, std::siz
   for (const auto& x : series)
     s.steady = s.steady && first <= x.size() && halves_agree(std::span<const double>(x).subspan(first));
   return s;
+}
+
+std::size_t mser_first_row(const std::vector<std::vector<double>>& series, std::size_t blocks) {
+  if (series.empty() || series.front().empty() || blocks == 0) return 0;
+  const std::size_t rows = std::max<std::size_t>(1, series.front().size() / blocks);
+  const std::size_t count = series.front().size() / rows;
+  std::size_t first = 0;
+  std::vector<double> means(count);
+  for (const auto& x : series) {
+    for (std::size_t b = 0; b < count; ++b) {
+      double sum = 0;
+      for (std::size_t r = 0; r < rows; ++r) sum += x[b * rows + r];
+      means[b] = sum / double(rows);
+    }
+    first = std::max(first, mser_truncation(means) * rows);
+  }
+  return first;
 }
 
 SteadyState detect_steady(const std::vector<std::vector<double>>& series) {
