@@ -48,6 +48,10 @@ int main(int argc, char** argv) {
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
     cli.option("output", 'o', "FILE", "output HDF5 file");
     cli.option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
+    cli.flag("detect-transient", 0,
+             "start each run later than --from-strain where its own transient ends: MSER on 100 block\n"
+             "      means of its T and p (the rule of the pipelines' steady_state.py; dilute flows heat up for\n"
+             "      many strain units); the strain used is /runs/first_strain");
     cli.option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
     cli.option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)", "0");
     cli.option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
@@ -81,6 +85,7 @@ int main(int argc, char** argv) {
     correlation::Settings s;
     s.from_strain = cli.real("from-strain");
     require_in_range("from-strain", s.from_strain, 0, INFINITY, false, true);
+    s.detect_transient = cli.flag_set("detect-transient");
     s.bin_width = cli.real("bin-width");
     s.max_lag = cli.real("max-lag");
     s.map_bin = cli.real("map-bin");

@@ -13,6 +13,7 @@
 #include "correlation/clusters.hpp"
 #include "correlation/jackknife.hpp"
 
+#include "statistics/steady.hpp"
 namespace granflow::correlation {
 
 namespace {
@@ -159,7 +160,7 @@ Clusters clusters_of(const Run& run, int window, long long frame) {
 
 }  // namespace
 
-Run open_run(const std::string& path, double from_strain) {
+Run open_run(const std::string& path, double from_strain, bool detect_transient) {
   Run run{path, io::TrajectoryReader(path)};
   const io::TrajectoryReader& reader = run.reader;
   const io::Parameters p = reader.parameters();
@@ -181,6 +182,14 @@ Run open_run(const std::string& path, double from_strain) {
   run.mean_diameter = 2 * std::accumulate(radius.begin(), radius.end(), 0.0) / double(radius.size());
   run.half_side = 0.5 * std::min(box.lx, box.ly);
 
+  if (detect_transient) {
+    for (const char* name : {"temperature", "pressure"})
+      if (!reader.has_observable(name)) throw bad(std::string("no /observables/") + name + " to detect the transient in");
+    const std::vector<double> observed = reader.observable_scalar("strain");
+    const std::size_t row = mser_first_row({reader.observable_scalar("temperature"), reader.observable_scalar("pressure")});
+    if (row < observed.size()) from_strain = std::max(from_strain, std::fabs(observed[row]));
+  }
+  run.from_strain = from_strain;
   const std::vector<double> strain = frame_strains(reader);
   for (std::size_t k = 0; k < strain.size(); ++k)
     // The tolerance absorbs the round-off of strain = γ̇·t at the frame meant to start at it.
@@ -199,8 +208,9 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
   if (settings.xi_el && !references.empty()) throw UsageError("give --reference or --xi-el, not both");
   Report report;
   report.settings = settings;
-  for (const auto& path : runs) report.runs.push_back(open_run(path, settings.from_strain));
-  for (const auto& path : references) report.references.push_back(open_run(path, settings.from_strain));
+  for (const auto& path : runs) report.runs.push_back(open_run(path, settings.from_strain, settings.detect_transient));
+  for (const auto& path : references)
+    report.references.push_back(open_run(path, settings.from_strain, settings.detect_transient));
 
   // One binning for all runs: σ from the first run; ℓ_max within every run's half box.
   const double sigma = report.runs.front().mean_diameter;

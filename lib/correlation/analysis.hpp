@@ -28,6 +28,9 @@ namespace granflow::correlation {
 
 struct Settings {
   double from_strain = 0.5;
+  // Start each run's average where its own transient ends, if that is later than from_strain:
+  // MSER on the block means of its T and p (statistics/steady.hpp, mser_first_row()).
+  bool detect_transient = false;
   double bin_width = 0;  // 0: σ/20, σ the mean grain diameter of the first run
   double max_lag = 0;    // 0: min(15σ, half the shortest box side of all runs)
   int angle_bins = 24;
@@ -52,6 +55,7 @@ struct Run {
   std::string path;
   io::TrajectoryReader reader;
   std::vector<std::size_t> frames{};  // past the transient
+  double from_strain = 0;  // where the average starts (settings, or the run's transient)
   double first_strain = 0, last_strain = 0;  // of those frames
   double packing_fraction = 0, restitution = 0, tangential_restitution = 0, friction = 0, rate = 0;
   double mean_diameter = 0;
@@ -60,8 +64,9 @@ struct Run {
 };
 
 // UsageError naming the file: not a trajectory, a packing, no contacts stored, no
-// strain, a box not periodic in y, parameters missing, or no frame at strain ≥ from_strain.
-Run open_run(const std::string& path, double from_strain);
+// strain, a box not periodic in y, parameters missing, or no frame at strain ≥ from_strain
+// (or, with detect_transient, past the run's transient if that ends later).
+Run open_run(const std::string& path, double from_strain, bool detect_transient = false);
 
 struct RunResult {
   std::vector<double> c, c_error;             // C̄ per radial bin

@@ -71,7 +71,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "shear rate γ̇ (the run's /lees_edwards rate)", "1/time");
   w.write("/runs/grains", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].grains; }), "grains N", "1");
   w.write("/runs/frames", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].frames.size(); }),
-          "stored frames averaged (strain >= from_strain)", "1");
+          "stored frames averaged (strain >= from_strain, or past the run's transient with detect_transient)", "1");
   w.write("/runs/blocks", {n}, int_column(n, [&](std::size_t i) { return res[i].blocks; }),
           "blocks of consecutive frames for the jackknife and bootstrap errors", "1");
   w.write("/runs/first_strain", {n}, column(n, [&](std::size_t i) { return report.runs[i].first_strain; }),
@@ -89,6 +89,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
   attrs.set("angle_bins", grid.angle_bins);
   attrs.set("map_bin", grid.map_bin);
   attrs.set("from_strain", report.settings.from_strain);
+  attrs.set("detect_transient", report.settings.detect_transient ? 1 : 0);
   attrs.set("abs_bin_width", report.settings.abs_bin_width);
   attrs.set("abs_noise", report.settings.magnitude.noise);
   attrs.set("abs_threshold", report.settings.magnitude.hard ? "hard" : "soft");

@@ -27,8 +27,10 @@ namespace {
 struct Sums {
   double w2 = 0, w2_over_d = 0, force = 0, contacts = 0;
 };
+// With transient_frames > 0 it also records T and p, rising linearly over that many frames,
+// then constant (give or take a wiggle of 10⁻³).
 Sums write_pairs_run(const std::string& path, double nu, double e, double distance, int frames, int first_used,
-                     bool with_contacts = true, std::uint64_t seed = 1) {
+                     bool with_contacts = true, std::uint64_t seed = 1, int transient_frames = 0) {
   Rng rng(seed);
   io::TrajectoryWriter w(path);
   io::Parameters p;
@@ -79,6 +81,11 @@ Sums write_pairs_run(const std::string& path, double nu, double e, double distan
     if (!with_contacts) f.contacts.clear();
     w.append_frame(f);
     w.append_observable("strain", f.step, f.time, f.time);
+    if (transient_frames > 0) {
+      const double level = std::min(1.0, double(k) / transient_frames);
+      w.append_observable("temperature", f.step, f.time, level + 1e-3 * std::sin(0.7 * k));
+      w.append_observable("pressure", f.step, f.time, 3 * level + 1e-3 * std::cos(0.3 * k));
+    }
   }
   w.close();
   return sums;
@@ -212,6 +219,35 @@ TEST(GfCorrelate, SweepGivesNuBcAndClusters) {
   EXPECT_EQ(read_ints(dir / "ref_out.h5", "/sweep/regime_abs"), (std::vector<std::int32_t>{0, 0, 1}));
 }
 
+// --detect-transient starts where the run's T and p stop rising (frame 20 of 40, strain 2),
+// past --from-strain; without it, at --from-strain.
+TEST(GfCorrelate, DetectedTransientIsSkipped) {
+  ScratchDir dir("correlate_transient");
+  const std::string run = dir / "run.h5";
+  write_pairs_run(run, 0.6, 0.5, 1.3, 40, 0, true, 1, 20);
+  const std::string common = " --max-lag 10 --blocks 4 --quiet --from-strain 0.5";
+  ASSERT_EQ(run_tool("gf-correlate", run + " -o " + (dir / "fixed.h5") + common).exit_code, 0);
+  EXPECT_NEAR(read_doubles(dir / "fixed.h5", "/runs/first_strain")[0], 0.5, 1e-9);
+  auto r = run_tool("gf-correlate", run + " -o " + (dir / "detected.h5") + common + " --detect-transient");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(read_doubles(dir / "detected.h5", "/runs/first_strain")[0], 2.0, 0.1 + 1e-9);
+  const int frames = read_ints(dir / "detected.h5", "/runs/frames")[0];
+  EXPECT_GE(frames, 19);
+  EXPECT_LE(frames, 21);
+  // A transient shorter than --from-strain leaves --from-strain.
+  ASSERT_EQ(run_tool("gf-correlate", run + " -o " + (dir / "late.h5") + " --max-lag 10 --blocks 4 --quiet "
+                                          "--from-strain 3 --detect-transient").exit_code,
+            0);
+  EXPECT_NEAR(read_doubles(dir / "late.h5", "/runs/first_strain")[0], 3.0, 1e-9);
+  // A run without T and p cannot be checked for its transient.
+  const std::string bare = dir / "bare.h5";
+  write_pairs_run(bare, 0.6, 0.5, 1.3, 10, 0);
+  r = run_tool("gf-correlate", bare + " -o " + (dir / "bare_out.h5") + common + " --detect-transient");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("temperature"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bare_out.h5"));
+}
+
 TEST(GfCorrelate, RealShearRun) {
   ScratchDir dir("correlate_real");
   const std::string run = dir / "run.h5", out = dir / "out.h5";
@@ -318,7 +354,7 @@ TEST(GfCorrelateUsage, HelpListsEveryOptionWithDefaults) {
   for (const char* option : {"--output", "--from-strain", "--bin-width", "--max-lag", "--angle-bins", "--map-bin",
                              "--blocks", "--reference", "--xi-el", "--threshold", "--force-bin-width", "--force-max",
                              "--kde-bandwidth", "--bootstrap", "--seed", "--clusters-window", "--clusters-frame",
-                             "--quiet", "--version"})
+                             "--detect-transient", "--quiet", "--version"})
     EXPECT_NE(help.find(option), std::string::npos) << option;
   EXPECT_NE(help.find("[default: 0.5]"), std::string::npos);
   EXPECT_NE(help.find("[default: 1.25]"), std::string::npos);
