@@ -49,7 +49,35 @@ def fmt(value, error=None, plateau=1):
 
 def cell(table, name, row):
     st = table["steady"]
-    return fmt(st[name][row], st[name + "_error"][row], st[name + "_plateau"][row])
+    return fmt(st[name][row], st[name + "_error"][row], st[name + "_plateau"][row]) + unsteady_mark(table, row)
+
+
+def unsteady_mark(table, row):
+    """‡ for a run whose steady part failed the stationarity check of steady_state.py."""
+    stationary = table["runs"].get("stationary")
+    return " ‡" if stationary is not None and not stationary[row] else ""
+
+
+def steady_start_note(table):
+    """How the steady parts of a steady_state.py table were chosen, and which were not stationary."""
+    runs, prm = table["runs"], table["parameters"]
+    from_strain = float(prm["from_strain"])
+    if "steady_from" not in runs:
+        return f"steady values average the recorded rows with strain ≥ {from_strain:g}."
+    start, strain = runs["steady_from"], runs["strain"]
+    late = [i for i in range(len(start)) if start[i] > from_strain + 1e-9]
+    text = (f"steady values average the recorded rows from the start of each run's steady part: strain "
+            f"{from_strain:g}" + (", or later where MSER on the block means of T and p finds the run's transient "
+                                  "longer (at most half of the run)" if int(prm.get("detect_transient", 0)) else "")
+            + f". Runs last strain {strain.min():g}–{strain.max():g}; {len(late)} of {len(start)} start later than "
+            f"{from_strain:g} (up to {start.max():.3g}).")
+    if "stationary" in runs:
+        bad = [i for i in range(len(start)) if not runs["stationary"][i]]
+        text += (f" ‡ marks a run whose steady part is not stationary (the means of T or p over its halves differ by "
+                 f"more than {ss.STATIONARY_SIGMAS} blocking errors): {len(bad)} of {len(start)}")
+        text += (" (" + ", ".join(f"`{os.path.basename(runs['input'][i])}` {runs['halves_z'][i]:.1f}σ" for i in bad)
+                 + ")." if bad else ".")
+    return text
 
 
 def sigmas(difference, *errors):
@@ -75,9 +103,9 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
     worst = int(np.argmax(overlap))
     lines = ["", "## Chapter 4: simple shear (thesis §4.2.2, Figs 4.1–4.6)", "",
              f"Tables `{sweep_path}` (ν × e sweep) and `{bagnold_path}` (Fig 4.2), from "
-             f"`pipelines/analysis/steady_state.py`: N = {runs['grains'][0]}, total strain {runs['strain'][0]:g}, "
-             f"strain step γ̇dt = {runs['strain_step'][0]:g}; steady values average the recorded rows with strain ≥ "
-             f"{from_strain:g}. ± is the {sweep['parameters']['error_method']}; † marks an error that is only "
+             f"`pipelines/analysis/steady_state.py`: N = {runs['grains'][0]}, "
+             f"strain step γ̇dt = {runs['strain_step'][0]:g}; {steady_start_note(sweep)} "
+             f"± is the {sweep['parameters']['error_method']}; † marks an error that is only "
              "a lower bound (no blocking plateau: the run is short for its correlation time). "
              f"Largest overlap in the steady parts: {overlap[worst]:.2e} "
              f"mean diameters (`{os.path.basename(runs['input'][worst])}`); mean solver iterations per step "
@@ -136,10 +164,11 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
               quote("Previous research [71, 27] has shown that N_1 ∼ 10^-2.", "358"),
               quote("We see that the static part of the pressure becomes larger than the kinetic part for ν > 0.4.",
                     "404"),
-              "| ν | p/(γ̇²m) | s/(γ̇²m) | T/(γ̇²⟨R⟩²) | s/p | N₁ | pˢ/(γ̇²m) | pᵏ/(γ̇²m) |",
-              "|---|---|---|---|---|---|---|---|"]
+              "| ν | steady from | p/(γ̇²m) | s/(γ̇²m) | T/(γ̇²⟨R⟩²) | s/p | N₁ | pˢ/(γ̇²m) | pᵏ/(γ̇²m) |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for r in zero:
-        lines.append(f"| {runs['packing_fraction'][r]:.3f} | " + " | ".join(
+        start = f"{runs['steady_from'][r]:.3g} of {runs['strain'][r]:g}" if "steady_from" in runs else "–"
+        lines.append(f"| {runs['packing_fraction'][r]:.3f} | {start} | " + " | ".join(
             cell(sweep, name, r) for name in ("pressure_scaled", "shear_stress_scaled", "temperature_scaled",
                                               "s_over_p", "normal_stress_difference", "pressure_static_scaled",
                                               "pressure_kinetic_scaled")) + " |")
@@ -299,7 +328,11 @@ def ch5_section(correlate_path, clusters_path):
     lines = ["", "## Chapter 5: microstructure (thesis §5.1–5.3, Figs 5.1–5.10)", "",
              f"Table `{correlate_path}` (gf-correlate, one row per run): N = {int(runs['grains'][0])}, "
              f"{int(runs['frames'].min())}–{int(runs['frames'].max())} frames per run at strain ≥ "
-             f"{float(cor['attrs']['from_strain']):g}, largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
+             f"{float(cor['attrs']['from_strain']):g}"
+             + (f" or past the run's transient (MSER on T and p; first frames at strain "
+                f"{float(np.min(runs['first_strain'])):.3g}–{float(np.max(runs['first_strain'])):.3g})"
+                if int(cor['attrs'].get('detect_transient', 0)) else "")
+             + f", largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
              f"(σ = {sigma:.4g} the mean diameter). ξ below is gf-correlate's ξ_|C| (`/correlation/xi_abs`: "
              f"eq. 5.2 on |C̄| in bins of {res['bin_width'] / sigma:.2f}σ, {res['threshold_kind']}-thresholded at "
              f"{res['k']:g} jackknife errors, block-jackknife errors; `lib/correlation/decay_length.hpp`); "

@@ -1,11 +1,20 @@
 #!/usr/bin/env python3
-"""steady_state.py [--from-strain S] --output TABLE.h5 RUN.h5...: steady-state averages of
+"""steady_state.py [--from-strain S] [--detect-transient] --output TABLE.h5 RUN.h5...: steady-state averages of
 gf-shear trajectories (thesis §4.2.2, Figs 4.2-4.6), one row per run.
 
 Averages. gf-shear records every observable at a constant strain interval (every step
-by default), so a steady value is the plain mean over the rows with strain >=
---from-strain (default 0.5: the thesis finds steady flow "by a shear of approximately
-0.5", line 377). Ratios and
+by default), so a steady value is the plain mean over the rows of the steady part. It
+starts at --from-strain (default 0.5: the thesis finds steady flow "by a shear of
+approximately 0.5", line 377, at ν = 0.8) or, with --detect-transient (the pipelines use
+it), later where the run's own transient says so: MSER (White, Simulation 69, 323 (1997), as gf-incline applies it) on TRANSIENT_BLOCKS
+block means of T and of p each picks the truncation d <= n/2 minimising the squared
+standard error of what is left, and the later of the two wins. Dilute flows sheared
+from rest heat up for many strain units (T still rises at strain 5 below ν = 0.6 at
+N = 1000 and e = 0.5, up to strain ~15 at ν = 0.3), so a fixed 0.5 would average a
+transient there; gf-correlate --detect-transient applies the same rule. Whether what is averaged is
+stationary is checked: the means of T and p over its first and second halves, with
+blocking errors, may differ by at most STATIONARY_SIGMAS combined errors (halves_z is the
+larger difference, in errors; a run failing it is marked, not dropped). Ratios and
 the dimensionless groups are ratios of means (p, s, T are means first, then combined),
 never means of instantaneous ratios, which large force fluctuations would bias.
 
@@ -27,9 +36,10 @@ to their linearisation Q * sum_k a_k (x_k(t) - <x_k>)/<x_k> for Q = c * prod_k <
 which keeps the correlations between numerator and denominator.
 
 Output (HDF5, written atomically): /parameters (program, script_sha256, command_line,
-from_strain, error_method); /runs/<column> [rows] with the run's input path and SHA-256,
-packing_fraction, restitution, tangential_restitution, friction, rate, strain_step,
-strain, dt, grains, seed, mean_radius, mean_mass, samples; /steady/<name>,
+from_strain, detect_transient, error_method); /runs/<column> [rows] with the run's input
+path and SHA-256, packing_fraction, restitution, tangential_restitution, friction, rate,
+strain_step, strain, dt, grains, seed, mean_radius, mean_mass, samples, steady_from (the
+strain the average starts at), halves_z, stationary; /steady/<name>,
 /steady/<name>_error, /steady/<name>_plateau [rows] for every name of QUANTITIES;
 /diagnostics/{solver_iterations_mean, solver_residual_max, max_overlap_max} over the
 steady part. Steady and diagnostic datasets carry `meaning` and `units` attributes; run
@@ -51,6 +61,8 @@ ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one 
                 "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
                 "blocking their linearisation")
 MIN_SAMPLES = 32  # steady rows a run must have
+TRANSIENT_BLOCKS = 100  # block means MSER looks at (fewer for shorter runs: a row each)
+STATIONARY_SIGMAS = 3  # largest difference between the halves' means, in combined errors
 MIN_BLOCKS = 16  # fewest blocks an error is read from (its relative uncertainty is then ~18 %)
 STRESS = "mass/time^2 (2D stress, code units)"
 
@@ -183,6 +195,53 @@ def estimate(series, parameters, factor, powers):
     return q, err, plateau
 
 
+def mser_truncation(x):
+    """MSER: the d <= len(x)//2 minimising the variance of x[d:] over (len(x) - d)^2, the
+    first on ties (about the overall mean, so that a small scatter on a large mean does not
+    cancel away); 0 for fewer than 2 values."""
+    x = np.asarray(x, dtype=float)
+    n = len(x)
+    if n < 2:
+        return 0
+    d = x - x.mean()
+    s1 = np.cumsum(d[::-1])[::-1]
+    s2 = np.cumsum((d * d)[::-1])[::-1]
+    m = n - np.arange(n // 2 + 1)
+    stat = np.maximum(0.0, s2[:n // 2 + 1] - s1[:n // 2 + 1] ** 2 / m) / m ** 2
+    return int(np.argmin(stat))
+
+
+def steady_start(run, from_strain):
+    """Strain at which the steady part starts: the later of from_strain and MSER's truncation
+    of the block means of T and of p (TRANSIENT_BLOCKS blocks of equal length over the run,
+    the rows left over at the end not in any)."""
+    strain = run["series"]["strain"]
+    rows = max(1, len(strain) // TRANSIENT_BLOCKS)
+    blocks = len(strain) // rows
+    d = 0
+    for name in ("temperature", "pressure"):
+        x = run["series"][name][:blocks * rows].reshape(blocks, rows).mean(axis=1)
+        d = max(d, mser_truncation(x))
+    return max(from_strain, float(strain[min(d * rows, len(strain) - 1)]))
+
+
+def halves_z(run, from_strain):
+    """Largest |mean of the second half - mean of the first| of T and p over the rows at
+    strain >= from_strain, in combined blocking errors (0 with too few rows to tell)."""
+    keep = run["series"]["strain"] >= from_strain
+    z = 0.0
+    for name in ("temperature", "pressure"):
+        x = run["series"][name][keep]
+        half = len(x) // 2
+        if half < MIN_SAMPLES:
+            return 0.0
+        a, b = x[:half], x[len(x) - half:]
+        error = math.hypot(blocking_error(a)[0], blocking_error(b)[0])
+        if error > 0:
+            z = max(z, abs(float(b.mean() - a.mean())) / error)
+    return z
+
+
 def steady_values(run, from_strain, to_strain=math.inf):
     """({name: (value, error, plateau)} for every QUANTITIES entry, diagnostics, rows used)
     over the rows with from_strain <= strain < to_strain."""
@@ -204,20 +263,24 @@ def steady_values(run, from_strain, to_strain=math.inf):
     return values, diagnostics, n
 
 
-def analyse(paths, from_strain):
-    """One row per run: (path, sha256, parameters, steady values, diagnostics, samples)."""
+def analyse(paths, from_strain, detect_transient=False):
+    """One row per run: (path, sha256, parameters, steady values, diagnostics, samples,
+    (steady_from, halves_z)); the steady part starts at steady_start() or, without
+    detect_transient, at from_strain."""
     rows = []
     for path in paths:
         try:
             run = read_run(path)
-            values, diagnostics, n = steady_values(run, from_strain)
+            start = steady_start(run, from_strain) if detect_transient else from_strain
+            values, diagnostics, n = steady_values(run, start)
+            z = halves_z(run, start)
         except (OSError, KeyError, ValueError, ZeroDivisionError) as exc:
             raise ValueError(f"{path}: {exc}") from exc
-        rows.append((path, sha256(path), run["parameters"], values, diagnostics, n))
+        rows.append((path, sha256(path), run["parameters"], values, diagnostics, n, (start, z)))
     return rows
 
 
-def write_table(output, rows, from_strain, command_line):
+def write_table(output, rows, from_strain, command_line, detect_transient=False):
     """Write the rows of analyse() as the table, atomically."""
     script = os.path.abspath(__file__)
     out = atomic_output(output)
@@ -226,7 +289,7 @@ def write_table(output, rows, from_strain, command_line):
             prm = f.create_group("parameters")
             prm.attrs.update({"program": os.path.basename(script), "script_sha256": sha256(script),
                               "command_line": command_line, "from_strain": from_strain,
-                              "error_method": ERROR_METHOD})
+                              "detect_transient": int(detect_transient), "error_method": ERROR_METHOD})
             text = h5py.string_dtype()
             runs = f.create_group("runs")
             runs.create_dataset("input", data=np.array([r[0] for r in rows], dtype=object), dtype=text)
@@ -235,7 +298,17 @@ def write_table(output, rows, from_strain, command_line):
                 ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
                 ds.attrs["meaning"] = f"the run's /parameters attribute '{attr}'"
             runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
-            runs["samples"].attrs["meaning"] = f"observable rows averaged (strain >= {from_strain})"
+            runs["samples"].attrs["meaning"] = "observable rows averaged (strain >= steady_from)"
+            for col, k, meaning in (
+                    ("steady_from", 0, f"strain the steady part starts at (>= {from_strain}; "
+                                       + ("MSER on T and p" if detect_transient else "fixed") + ")"),
+                    ("halves_z", 1, "larger |difference| of the means of T and of p between the steady "
+                                    "part's halves, in combined blocking errors")):
+                runs.create_dataset(col, data=np.array([r[6][k] for r in rows], dtype=float))
+                runs[col].attrs["meaning"] = meaning
+            runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows],
+                                                            dtype=np.uint8))
+            runs["stationary"].attrs["meaning"] = f"1 if halves_z <= {STATIONARY_SIGMAS}"
             steady = f.create_group("steady")
             for name, (meaning, units, _, _) in QUANTITIES.items():
                 for suffix, col, what in (("", 0, "steady-state value"), ("_error", 1, ERROR_METHOD),
@@ -275,15 +348,18 @@ def select(table, **columns):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--from-strain", type=float, default=0.5, help="skip the transient before this strain (0.5)")
+    ap.add_argument("--detect-transient", action="store_true",
+                    help="start a run's steady part later than --from-strain where its own transient ends "
+                         "(MSER on block means of T and p)")
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("runs", nargs="+", help="gf-shear trajectories")
     args = ap.parse_args()
     try:
-        rows = analyse(args.runs, args.from_strain)
+        rows = analyse(args.runs, args.from_strain, args.detect_transient)
     except ValueError as exc:  # bad input: exit 2, like the gf-* programs
         print(f"steady_state.py: {exc}", file=sys.stderr)
         sys.exit(2)
-    write_table(args.output, rows, args.from_strain, shlex.join(sys.argv))
+    write_table(args.output, rows, args.from_strain, shlex.join(sys.argv), args.detect_transient)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Tests of pipelines/analysis/steady_state.py on synthetic trajectories with known answers:
 block-averaging errors against the exact standard error of AR(1) series, the transient
-skip, the thesis' normalisations on a constructed run, and the table the CLI writes."""
+skip (fixed, and found from the run), the thesis' normalisations on a constructed run, and the
+table the CLI writes."""
 import glob
 import hashlib
 import os
@@ -139,6 +140,78 @@ class RunTest(unittest.TestCase):
         np.testing.assert_allclose(inv["s_over_p"], 0.4)
         np.testing.assert_allclose(inv["rate_R_over_sqrt_T"], 0.5 * r / 2)
         np.testing.assert_allclose(inv["mT_over_pR2"], m * 4 / (p * r ** 2))
+
+
+class TransientTest(unittest.TestCase):
+    """The steady part's start found from the run (MSER on block means of T and p) and the
+    stationarity check of what is averaged."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(self.tmp.cleanup)
+
+    def write(self, name, temperature, pressure, step=1e-3):
+        path = os.path.join(self.tmp.name, name)
+        synthetic.write_run(path, pressure - 1, np.ones(len(pressure)), 0.3 * pressure, temperature,
+                            strain_step=step)
+        return path
+
+    def test_mser_cuts_a_ramp(self):
+        x = np.concatenate([np.linspace(0, 1, 30, endpoint=False), 1 + 1e-3 * np.sin(np.arange(70))])
+        self.assertGreaterEqual(ss.mser_truncation(x), 27)
+        self.assertLessEqual(ss.mser_truncation(x), 33)
+        self.assertEqual(ss.mser_truncation([3.0]), 0)
+        # The first of tied minima; never beyond half.
+        self.assertEqual(ss.mser_truncation([0.0, 1.0, 1.1, 0.9, 1.05, 0.95]), 1)
+        self.assertLessEqual(ss.mser_truncation(np.arange(100.0)), 50)
+
+    def test_a_heating_transient_is_skipped(self):
+        # T rises linearly until strain 4 of 10 (like a dilute flow sheared from rest), then
+        # fluctuates about its plateau; p follows it.
+        rng = np.random.default_rng(5)
+        n = 10000
+        strain = np.arange(1, n + 1) * 1e-3
+        temp = np.minimum(strain / 4, 1) + 0.05 * synthetic.ar1(0.9, n, rng)
+        path = self.write("heat.h5", temp, 2 + 3 * temp)
+        run = ss.read_run(path)
+        start = ss.steady_start(run, 0.5)
+        self.assertGreaterEqual(start, 3.7)
+        self.assertLessEqual(start, 4.5)
+        self.assertEqual(ss.steady_start(run, 6.0), 6.0)  # a later --from-strain wins
+        (value, err, _), = [ss.steady_values(run, start)[0]["temperature"]]
+        self.assertLess(abs(value - 1), 4 * err)
+        self.assertGreater(1 - ss.steady_values(run, 0.5)[0]["temperature"][0], 10 * err)
+        self.assertLess(ss.halves_z(run, start), ss.STATIONARY_SIGMAS)
+        self.assertGreater(ss.halves_z(run, 0.5), ss.STATIONARY_SIGMAS)
+        rows = ss.analyse([path], 0.5, detect_transient=True)
+        self.assertEqual(rows[0][6][0], start)
+        self.assertEqual(rows[0][5], int(np.sum(run["series"]["strain"] >= start)))
+        self.assertEqual(ss.analyse([path], 0.5)[0][6][0], 0.5)
+
+    def test_a_stationary_run_starts_early(self):
+        for seed in range(5):
+            rng = np.random.default_rng(seed)
+            temp = 1 + 0.05 * synthetic.ar1(0.9, 5000, rng)
+            run = ss.read_run(self.write(f"flat{seed}.h5", temp, 2 + 3 * temp))
+            with self.subTest(seed=seed):
+                # MSER may trim a fluctuation, but on average little.
+                self.assertLessEqual(ss.steady_start(run, 0.5), 2.5)
+                self.assertLess(ss.halves_z(run, ss.steady_start(run, 0.5)), ss.STATIONARY_SIGMAS)
+
+    def test_a_run_that_never_settles_is_marked(self):
+        rng = np.random.default_rng(6)
+        n = 5000
+        temp = np.arange(1, n + 1) / n + 0.02 * synthetic.ar1(0.9, n, rng)  # heats up to the end
+        path = self.write("drift.h5", temp, 2 + 3 * temp)
+        out = os.path.join(self.tmp.name, "drift_table.h5")
+        res = subprocess.run([sys.executable, SCRIPT, "--from-strain", "0.5", "--detect-transient", "-o", out, path],
+                             capture_output=True, text=True)
+        self.assertEqual(res.returncode, 0, res.stderr)
+        table = ss.read_table(out)
+        self.assertLessEqual(table["runs"]["steady_from"][0], 2.51)  # MSER stops at half the run
+        self.assertGreater(table["runs"]["halves_z"][0], ss.STATIONARY_SIGMAS)
+        self.assertEqual(table["runs"]["stationary"][0], 0)
+        self.assertEqual(table["parameters"]["detect_transient"], 1)
 
 
 class TableTest(unittest.TestCase):
