@@ -1,7 +1,8 @@
 # Chapter 4, simple shear (thesis §4.2, Figs 4.1-4.6); grids in pipelines/sizes/$(SIZE).mk.
 #
 # Runs: $(RUNS)/shear_nu<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>.h5, gf-shear on the packing
-# $(RUNS)/pack_nu<ν>_s<seed>.h5 for SHEAR_STRAIN at SHEAR_STRAIN_STEP (= γ̇dt). Any such name
+# $(RUNS)/pack_nu<ν>_s<seed>.h5 for SHEAR_STRAIN (SHEAR_LONG_STRAIN at the ν of SHEAR_LONG_NU)
+# at SHEAR_STRAIN_STEP (= γ̇dt). Any such name
 # can be asked for (make -f Makefile.sweeps runs/quick/shear_nu0.780_e0.25_mu0.40_r1e+00_s1.h5).
 # The strain settings belong to the SIZE and are not in the name: after changing them,
 # remove the runs (clean-runs) to redo them.
@@ -13,6 +14,11 @@
 # them (never a simulation).
 
 shear_run = $(RUNS)/shear_nu$(1)_e$(2)_mu$(3)_r$(4)_s$(5).h5
+# Strain and frame spacing of a run at ν = $(1): SHEAR_LONG_* for the ν of SHEAR_LONG_NU (dilute
+# flows sheared from rest heat up for many strain units), SHEAR_* otherwise.
+shear_long        = $(filter $(1),$(SHEAR_LONG_NU))
+shear_strain      = $(if $(call shear_long,$(1)),$(SHEAR_LONG_STRAIN),$(SHEAR_STRAIN))
+shear_frame_every = $(if $(call shear_long,$(1)),$(SHEAR_LONG_FRAME_EVERY),$(SHEAR_FRAME_EVERY))
 # μ = 0 at every e; μ = 0.4 (Fig 4.10 right, beside the incline) at CH4_FRICTION_E only.
 CH4_SWEEP_RUNS    := $(foreach e,$(CH4_E),$(foreach nu,$(CH4_NU),\
                        $(call shear_run,$(nu),$(e),0.00,$(CH4_RATE),$(CH4_SEED)))) \
@@ -36,13 +42,13 @@ $(RUNS)/shear_nu%.h5: $(RUNS)/pack_nu$$(call shear_arg,,1,$$*)_$$(call shear_arg
                       $(STAMPS)/gf-shear.stamp | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
-	  --seed $(call shear_arg,s,5,$*) --strain $(SHEAR_STRAIN) --strain-step $(SHEAR_STRAIN_STEP) \
-	  --frame-every $(SHEAR_FRAME_EVERY)
+	  --seed $(call shear_arg,s,5,$*) --strain $(call shear_strain,$(call shear_arg,,1,$*)) \
+	  --strain-step $(SHEAR_STRAIN_STEP) --frame-every $(call shear_frame_every,$(call shear_arg,,1,$*))
 
 $(RUNS)/ch4_sweep.h5: $(CH4_SWEEP_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
-	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH4_FROM_STRAIN) -o $@ $(CH4_SWEEP_RUNS)
+	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH4_FROM_STRAIN) --detect-transient -o $@ $(CH4_SWEEP_RUNS)
 $(RUNS)/ch4_bagnold.h5: $(CH4_BAGNOLD_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
-	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH4_FROM_STRAIN) -o $@ $(CH4_BAGNOLD_RUNS)
+	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH4_FROM_STRAIN) --detect-transient -o $@ $(CH4_BAGNOLD_RUNS)
 
 $(FIGURES)/fig4_1.png: $(CH4_REFERENCE_RUN) pipelines/plot/ch4_snapshot.py pipelines/granflow_h5.py | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_snapshot.py $< $@

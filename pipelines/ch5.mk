@@ -41,7 +41,7 @@ $(RUNS)/window_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
 
 $(RUNS)/ch5_correlate.h5: $(CH5_ROWS) $(STAMPS)/gf-correlate.stamp \
                           pipelines/sizes/$(SIZE).mk | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain $(CH5_FROM_STRAIN) \
+	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain $(CH5_FROM_STRAIN) --detect-transient \
 	  --reference $(subst $(ch5_space),$(ch5_comma),$(strip $(CH5_REFERENCE_RUNS))) $(CH5_CORRELATE_ARGS) \
 	  $(CH5_ROWS)
 $(RUNS)/ch5_clusters.h5: $(CH5_WINDOW_RUNS) $(STAMPS)/gf-correlate.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/

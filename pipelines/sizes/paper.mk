@@ -17,6 +17,13 @@ SHEAR_STRAIN_STEP := 1e-3
 # Frames every 100 steps: ~195 frames past strain 0.5 for chapter 5 (the thesis averages
 # C(l) over >= 5000 steps; frames 100 steps apart are nearly independent samples).
 SHEAR_FRAME_EVERY := 100
+# Dilute flows sheared from rest heat up for many strain units (measured at N = 1000: T
+# steady only from strain ~40 at ν = 0.1, ~35 at 0.2, ~15 at 0.3 and 0.4 for e = 0; ~28,
+# 20, 14 for e = 0.92): runs at ν <= 0.7 go on to strain 80, frames 4 times sparser; the
+# analyses find where each run's steady part starts (MSER, at most half of the run).
+SHEAR_LONG_NU          := 0.100 0.200 0.300 0.400 0.500 0.600 0.650 0.700
+SHEAR_LONG_STRAIN      := 80
+SHEAR_LONG_FRAME_EVERY := 400
 # Chapter 5: the chapter-4 ν grid (dense steps of 0.01 as in the Fig 5.3 inset), every e
 # at μ = 0; Fig 5.4 at e = 0 for three μ (the thesis names three friction coefficients
 # without their values: 0, 0.1 and 0.4 here, 0.4 being the thesis' frictional case), up to

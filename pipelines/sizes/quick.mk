@@ -19,6 +19,14 @@ SHEAR_STRAIN_STEP := 1e-3
 # Frames every 20 steps (strain 0.02): chapter 5 averages C(l) and P(f) over the stored
 # frames of the same runs (225 frames past strain 0.5; the thesis: >= 5000 steps).
 SHEAR_FRAME_EVERY := 20
+# Dilute flows sheared from rest heat up for many strain units: T still rises at strain 5
+# for ν <= 0.6 (N = 1000, every e; at ν = 0.3 until strain ~15, at 0.5 until ~6, at 0.6
+# until ~2.5 for e = 0.92), and ν = 0.7 drifts over several units. Runs at these ν go on
+# to strain 40 (a few seconds each: few contacts), frames 8 times sparser (the same 250);
+# the analyses find where each run's steady part starts (MSER, at most half of the run).
+SHEAR_LONG_NU          := 0.300 0.400 0.500 0.600 0.700
+SHEAR_LONG_STRAIN      := 40
+SHEAR_LONG_FRAME_EVERY := 160
 # Chapter 5 (gf-correlate): the same runs where the grids agree. N = 1000 (half side ≈ 15σ
 # at ν = 0.8, the largest lag counted) keeps ξ measurable up to ν ≈ 0.8; the ν grid adds
 # the dilute end and the dense steps of Figs 5.2-5.3 (ν_c ≈ 0.845). Figs 5.3, 5.5-5.10 for

@@ -13,6 +13,10 @@ CH4_FROM_STRAIN   := 0.05
 SHEAR_STRAIN      := 0.2
 SHEAR_STRAIN_STEP := 1e-3
 SHEAR_FRAME_EVERY := 10
+# Longer runs at ν = 0.5 (see quick.mk): exercises the per-ν strain.
+SHEAR_LONG_NU          := 0.500
+SHEAR_LONG_STRAIN      := 0.3
+SHEAR_LONG_FRAME_EVERY := 15
 # Chapter 5: the chapter-4 runs plus μ = 0.4 at e = 0; ξ_el from ν = 0.5, e = 0.92;
 # a 10-step cluster window at ν = 0.7 (with 2, 64 grains at e = 0.92 can have no contact in any frame).
 CH5_NU            := $(PACK_NU)
