@@ -12,8 +12,8 @@
 #include "core/signals.hpp"
 #include "correlation/clusters.hpp"
 #include "correlation/jackknife.hpp"
-
 #include "statistics/steady.hpp"
+
 namespace granflow::correlation {
 
 namespace {
@@ -189,7 +189,6 @@ Run open_run(const std::string& path, double from_strain, bool detect_transient)
     const std::size_t row = mser_first_row({reader.observable_scalar("temperature"), reader.observable_scalar("pressure")});
     if (row < observed.size()) from_strain = std::max(from_strain, std::fabs(observed[row]));
   }
-  run.from_strain = from_strain;
   const std::vector<double> strain = frame_strains(reader);
   for (std::size_t k = 0; k < strain.size(); ++k)
     // The tolerance absorbs the round-off of strain = γ̇·t at the frame meant to start at it.

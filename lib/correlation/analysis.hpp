@@ -55,7 +55,6 @@ struct Run {
   std::string path;
   io::TrajectoryReader reader;
   std::vector<std::size_t> frames{};  // past the transient
-  double from_strain = 0;  // where the average starts (settings, or the run's transient)
   double first_strain = 0, last_strain = 0;  // of those frames
   double packing_fraction = 0, restitution = 0, tangential_restitution = 0, friction = 0, rate = 0;
   double mean_diameter = 0;
