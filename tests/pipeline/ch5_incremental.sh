@@ -25,6 +25,18 @@ for t in "${tables[@]}"; do [ -s "$t" ] || fail "$t was not made"; done
 mapfile -t trajectories < <(ls runs/test/shear_*.h5 runs/test/window_*.h5 runs/test/pack_*.h5)
 [ "${#trajectories[@]}" -ge 8 ] || fail "expected the shear runs, windows and packings, got ${trajectories[*]}"
 up_to_date || fail "fresh ch5 is not up to date"
+# Runs at the ν of SHEAR_LONG_NU (0.5 in test.mk) take SHEAR_LONG_STRAIN, the others
+# SHEAR_STRAIN; gf-correlate was asked to find each run's transient.
+/usr/bin/python3 - <<'PY' || fail "run lengths or transient detection not as test.mk asks"
+import glob, h5py
+for path in glob.glob("runs/test/shear_nu*.h5"):
+    with h5py.File(path, "r") as f:
+        strain = float(f["/parameters"].attrs["strain"])
+    expected = 0.3 if "shear_nu0.500_" in path else 0.2
+    assert abs(strain - expected) < 1e-12, (path, strain)
+with h5py.File("runs/test/ch5_correlate.h5", "r") as f:
+    assert int(f["/correlation"].attrs["detect_transient"]) == 1
+PY
 [ -z "$(find runs figures -name '*part*')" ] || fail "partial files left behind"
 sims_before=$(mtimes "${trajectories[@]}")
 tables_before=$(mtimes "${tables[@]}")
