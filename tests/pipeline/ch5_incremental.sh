@@ -34,8 +34,20 @@ for path in glob.glob("runs/test/shear_nu*.h5"):
         strain = float(f["/parameters"].attrs["strain"])
     expected = 0.3 if "shear_nu0.500_" in path else 0.2
     assert abs(strain - expected) < 1e-12, (path, strain)
+# gf-correlate (C++) and steady_state.py (Python) apply the same rule: each run's first frame
+# averaged is the first frame at or after the strain steady_state.py starts that run at.
+import sys
+sys.path.insert(0, "pipelines/analysis")
+import steady_state as ss
 with h5py.File("runs/test/ch5_correlate.h5", "r") as f:
     assert int(f["/correlation"].attrs["detect_transient"]) == 1
+    inputs = [p.decode() if isinstance(p, bytes) else p for p in f["/runs/input"][...]]
+    first = f["/runs/first_strain"][...]
+for path, strain in zip(inputs, first):
+    start = ss.steady_start(ss.read_run(path), 0.05)
+    with h5py.File(path, "r") as f:
+        every = int(f["/parameters"].attrs["frame-every"]) * float(f["/parameters"].attrs["strain-step"])
+    assert start - 1e-9 <= strain < start + every + 1e-9, (path, start, strain)
 PY
 [ -z "$(find runs figures -name '*part*')" ] || fail "partial files left behind"
 sims_before=$(mtimes "${trajectories[@]}")
