@@ -1,18 +1,19 @@
 #!/usr/bin/env python3
-"""steady_state.py [--from-strain S] [--detect-transient] --output TABLE.h5 RUN.h5...: steady-state averages of
-gf-shear trajectories (thesis §4.2.2, Figs 4.2-4.6), one row per run.
+"""steady_state.py [--from-strain S] [--detect-transient] --output TABLE.h5 RUN.h5...:
+steady-state averages of gf-shear trajectories (thesis §4.2.2, Figs 4.2-4.6), one row per run.
 
 Averages. gf-shear records every observable at a constant strain interval (every step
 by default), so a steady value is the plain mean over the rows of the steady part. It
 starts at --from-strain (default 0.5: the thesis finds steady flow "by a shear of
 approximately 0.5", line 377, at ν = 0.8) or, with --detect-transient (the pipelines use
-it), later where the run's own transient says so: MSER (White, Simulation 69, 323 (1997), as gf-incline applies it) on TRANSIENT_BLOCKS
-block means of T and of p each picks the truncation d <= n/2 minimising the squared
-standard error of what is left, and the later of the two wins. Dilute flows sheared
-from rest heat up for many strain units (T still rises at strain 5 below ν = 0.6 at
-N = 1000 and e = 0.5, up to strain ~15 at ν = 0.3), so a fixed 0.5 would average a
-transient there; gf-correlate --detect-transient applies the same rule. Whether what is averaged is
-stationary is checked: the means of T and p over its first and second halves, with
+it), later where the run's own transient says so: MSER (White, Simulation 69, 323
+(1997), as gf-incline applies it) on TRANSIENT_BLOCKS block means of T and of p each
+picks the truncation d <= n/2 minimising the squared standard error of what is left, and
+the later of the two wins. Dilute flows sheared from rest heat up for many strain units
+(T still rises at strain 5 below ν = 0.6 at N = 1000 and e = 0.5, up to strain ~15 at
+ν = 0.3), so a fixed 0.5 would average a transient there; gf-correlate
+--detect-transient applies the same rule. Whether what is averaged is stationary is
+checked: the means of T and p over its first and second halves, with
 blocking errors, may differ by at most STATIONARY_SIGMAS combined errors (halves_z is the
 larger difference, in errors; a run failing it is marked, not dropped). Ratios and
 the dimensionless groups are ratios of means (p, s, T are means first, then combined),
