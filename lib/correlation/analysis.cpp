@@ -26,12 +26,11 @@ std::string number(double v) {
   return buf;
 }
 
-// Strain of every stored frame, from /observables/strain: linear in the step between the
-// rows around the frame's step, and extended linearly beyond the first and last rows
-// (the strain grows linearly with the step at constant rate).
-std::vector<double> frame_strains(const io::TrajectoryReader& reader) {
+// Strain of every stored frame, from /observables/strain (`strain`, its values): linear in
+// the step between the rows around the frame's step, and extended linearly beyond the first
+// and last rows (the strain grows linearly with the step at constant rate).
+std::vector<double> frame_strains(const io::TrajectoryReader& reader, const std::vector<double>& strain) {
   const std::vector<std::int64_t> steps = reader.observable_step("strain");
-  const std::vector<double> strain = reader.observable_scalar("strain");
   if (steps.empty() || steps.size() != strain.size())
     throw UsageError("'" + reader.path() + "': /observables/strain is empty or its step and value differ in length");
   std::vector<double> out;
@@ -182,14 +181,19 @@ Run open_run(const std::string& path, double from_strain, bool detect_transient)
   run.mean_diameter = 2 * std::accumulate(radius.begin(), radius.end(), 0.0) / double(radius.size());
   run.half_side = 0.5 * std::min(box.lx, box.ly);
 
+  const std::vector<double> observed = reader.observable_scalar("strain");
   if (detect_transient) {
-    for (const char* name : {"temperature", "pressure"})
+    std::vector<std::vector<double>> series;
+    for (const char* name : {"temperature", "pressure"}) {
       if (!reader.has_observable(name)) throw bad(std::string("no /observables/") + name + " to detect the transient in");
-    const std::vector<double> observed = reader.observable_scalar("strain");
-    const std::size_t row = mser_first_row({reader.observable_scalar("temperature"), reader.observable_scalar("pressure")});
+      series.push_back(reader.observable_scalar(name));
+      if (series.back().size() != observed.size())
+        throw bad(std::string("/observables/") + name + " and /observables/strain differ in length");
+    }
+    const std::size_t row = mser_first_row(series);
     if (row < observed.size()) from_strain = std::max(from_strain, std::fabs(observed[row]));
   }
-  const std::vector<double> strain = frame_strains(reader);
+  const std::vector<double> strain = frame_strains(reader, observed);
   for (std::size_t k = 0; k < strain.size(); ++k)
     // The tolerance absorbs the round-off of strain = γ̇·t at the frame meant to start at it.
     if (std::fabs(strain[k]) >= from_strain - 1e-9) run.frames.push_back(k);
