@@ -76,10 +76,7 @@ def classify(time, velocity, window, rest_velocity, drift):
         raise ValueError("non-finite flow rate")
     mean = float(np.mean(v))
     err = ss.blocking_error(v)[0]
-    half = len(v) // 2
-    first, second = v[:half], v[len(v) - half:]
-    change = float(np.mean(second) - np.mean(first))
-    change_err = math.hypot(ss.blocking_error(first)[0], ss.blocking_error(second)[0])
+    change, change_err = ss.halves_change(v)
     if abs(mean) <= max(3 * err, rest_velocity):
         state = "rest"
     elif abs(change) <= max(3 * change_err, drift * abs(mean)):

@@ -226,20 +226,28 @@ def steady_start(run, from_strain):
     return max(from_strain, float(strain[min(d * rows, len(strain) - 1)]))
 
 
+def halves_change(x):
+    """(mean of the second half of x - mean of the first, its error), each half's error by
+    blocking (an odd count's middle value in neither half)."""
+    x = np.asarray(x, dtype=float)
+    half = len(x) // 2
+    first, second = x[:half], x[len(x) - half:]
+    return (float(np.mean(second) - np.mean(first)),
+            math.hypot(blocking_error(first)[0], blocking_error(second)[0]))
+
+
 def halves_z(run, from_strain):
-    """Largest |mean of the second half - mean of the first| of T and p over the rows at
-    strain >= from_strain, in combined blocking errors (0 with too few rows to tell)."""
+    """Largest |halves_change| of T and p over the rows at strain >= from_strain, in its
+    errors (0 with too few rows to tell)."""
     keep = run["series"]["strain"] >= from_strain
     z = 0.0
     for name in ("temperature", "pressure"):
         x = run["series"][name][keep]
-        half = len(x) // 2
-        if half < MIN_SAMPLES:
+        if len(x) // 2 < MIN_SAMPLES:
             return 0.0
-        a, b = x[:half], x[len(x) - half:]
-        error = math.hypot(blocking_error(a)[0], blocking_error(b)[0])
+        change, error = halves_change(x)
         if error > 0:
-            z = max(z, abs(float(b.mean() - a.mean())) / error)
+            z = max(z, abs(change) / error)
     return z
 
 
