@@ -53,9 +53,9 @@ $(RUNS)/ch4_bagnold.h5: $(CH4_BAGNOLD_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
 $(FIGURES)/fig4_1.png: $(CH4_REFERENCE_RUN) pipelines/plot/ch4_snapshot.py pipelines/granflow_h5.py | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_snapshot.py $< $@
 $(FIGURES)/fig4_2.png: $(CH4_BAGNOLD_RUNS) pipelines/plot/ch4_bagnold.py $(CH4_ANALYSIS) | $(FIGURES)/
-	$(PYTHON) pipelines/plot/ch4_bagnold.py --from-strain $(CH4_FROM_STRAIN) $@ $(CH4_BAGNOLD_RUNS)
+	$(PYTHON) pipelines/plot/ch4_bagnold.py --from-strain $(CH4_FROM_STRAIN) --detect-transient $@ $(CH4_BAGNOLD_RUNS)
 $(FIGURES)/fig4_3.png: $(CH4_REFERENCE_RUN) pipelines/plot/ch4_invariants.py $(CH4_ANALYSIS) | $(FIGURES)/
-	$(PYTHON) pipelines/plot/ch4_invariants.py --from-strain $(CH4_FROM_STRAIN) $< $@
+	$(PYTHON) pipelines/plot/ch4_invariants.py --from-strain $(CH4_FROM_STRAIN) --detect-transient $< $@
 $(FIGURES)/fig4_4.png: $(RUNS)/ch4_sweep.h5 pipelines/plot/ch4_rheology.py $(CH4_ANALYSIS) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_rheology.py $< $@
 $(FIGURES)/fig4_5.png: $(RUNS)/ch4_sweep.h5 pipelines/plot/ch4_pressure_parts.py $(CH4_ANALYSIS) | $(FIGURES)/

@@ -26,17 +26,20 @@ def main():
     ap.add_argument("input")
     ap.add_argument("output")
     ap.add_argument("--from-strain", type=float, default=0.5)
+    ap.add_argument("--detect-transient", action="store_true",
+                    help="start the steady mean where the run's transient ends, as steady_state.py does")
     args = ap.parse_args()
     run = ss.read_run(args.input)
     series = ss.invariant_series(run)
-    steady = ss.steady_values(run, args.from_strain)[0]
+    start = ss.steady_start(run, args.from_strain) if args.detect_transient else args.from_strain
+    steady = ss.steady_values(run, start)[0]
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     for ax, (name, label) in zip(axes, PANELS):
         ax.plot(run["series"]["strain"], series[name], lw=0.5, color="tab:blue")
         value, err, _ = steady[name]
         ax.axhspan(value - err, value + err, color="tab:orange", alpha=0.4)
         ax.axhline(value, color="tab:orange", lw=1, label=f"steady {value:.4g} ± {err:.2g}")
-        ax.axvline(args.from_strain, color="0.5", ls="--", lw=0.8)
+        ax.axvline(start, color="0.5", ls="--", lw=0.8)
         ax.set_ylabel(label)
         ax.legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel(r"shear strain $\dot\gamma t$")

@@ -50,8 +50,8 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     def test_figures(self):
         d = self.tmp.name
         calls = {"fig4_1.png": lambda out: ("plot/ch4_snapshot.py", self.bagnold[0], out),
-                 "fig4_2.png": lambda out: ("plot/ch4_bagnold.py", out, *self.bagnold),
-                 "fig4_3.png": lambda out: ("plot/ch4_invariants.py", self.bagnold[0], out),
+                 "fig4_2.png": lambda out: ("plot/ch4_bagnold.py", "--detect-transient", out, *self.bagnold),
+                 "fig4_3.png": lambda out: ("plot/ch4_invariants.py", "--detect-transient", self.bagnold[0], out),
                  "fig4_4.png": lambda out: ("plot/ch4_rheology.py", self.sweep_table, out),
                  "fig4_5.png": lambda out: ("plot/ch4_pressure_parts.py", self.sweep_table, out),
                  "fig4_6.png": lambda out: ("plot/ch4_static_pressure.py", self.sweep_table, out)}
