@@ -217,18 +217,31 @@ void Engine::rebuild_pairs() {
   drift_ = 0;
   CellList cells;
   cells.build(state_.position, box_, 2 * max_radius_ + reach_);
-  std::vector<std::array<int, 2>> found;
-  cells.for_each_pair(state_.position, [&](int i, int j, const Vec2& d) {
-    if (state_.fixed[i] && state_.fixed[j]) return;
-    if (d.norm() - state_.radius[i] - state_.radius[j] >= reach_) return;
-    found.push_back({std::min(i, j), std::max(i, j)});
-  });
+  // Threads search bands of cell rows, each into its own list; the order in which the
+  // pairs are found does not matter, since they are sorted below.
+  const int threads = cells.rows() >= 4 * settings_.threads ? settings_.threads : 1;
+  std::vector<std::vector<std::array<int, 2>>> found(threads);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    const int t = omp_get_thread_num();
+    cells.for_each_pair_in_rows(cells.rows() * t / threads, cells.rows() * (t + 1) / threads, state_.position,
+                                [&](int i, int j, const Vec2& d) {
+                                  if (state_.fixed[i] && state_.fixed[j]) return;
+                                  if (d.norm() - state_.radius[i] - state_.radius[j] >= reach_) return;
+                                  found[t].push_back({std::min(i, j), std::max(i, j)});
+                                });
+  }
   // Counting sort by i, then by j within each (short) bucket: O(pairs).
   bucket_.assign(n + 1, 0);
-  for (const auto& p : found) ++bucket_[p[0] + 1];
+  std::size_t total = 0;
+  for (const auto& band : found) {
+    total += band.size();
+    for (const auto& p : band) ++bucket_[p[0] + 1];
+  }
   for (std::size_t i = 0; i < n; ++i) bucket_[i + 1] += bucket_[i];
-  pairs_.resize(found.size());
-  for (const auto& p : found) pairs_[bucket_[p[0]]++] = p;
+  pairs_.resize(total);
+  for (const auto& band : found)
+    for (const auto& p : band) pairs_[bucket_[p[0]]++] = p;
   // bucket_[i] now holds the end of bucket i, the start of bucket i + 1.
   int begin = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -275,13 +288,15 @@ void Engine::order_bodies() {
   // that order.
   bucket_.assign(std::size_t(columns) * rows, 0);
   scratch_.resize(n);
+  const int threads = settings_.threads;
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
   for (int g = 0; g < n; ++g) {
     const Vec2& r = state_.position[g];
     const int column = std::clamp(int(r.x() * to_column), 0, columns - 1);
     const int row = std::clamp(int((r.y() - y0) * to_row), 0, rows - 1);
     scratch_[g] = row * columns + column;
-    ++bucket_[scratch_[g]];
   }
+  for (int g = 0; g < n; ++g) ++bucket_[scratch_[g]];
   int next = 0;
   for (int strip = 0; strip < strips_; ++strip)
     for (int block = 0; block < tiles_; ++block)
@@ -294,8 +309,10 @@ void Engine::order_bodies() {
         }
   strip_of_.resize(n);
   block_of_.resize(n);
+  for (int g = 0; g < n; ++g) body_of_[g] = bucket_[scratch_[g]]++;
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
   for (int g = 0; g < n; ++g) {
-    const int b = body_of_[g] = bucket_[scratch_[g]]++;
+    const int b = body_of_[g];
     strip_of_[b] = strip_of_row(scratch_[g] / columns);
     block_of_[b] = block_of_column(scratch_[g] % columns);
   }
@@ -324,12 +341,16 @@ void Engine::build_rows() {
   const std::size_t count = candidates_.size();
   auto tile = [&](const Candidate& k) { return row_tile(body_of_[k.i], body_of_[k.j()], k.image()); };
   const int tiles = strips_ * tiles_;
+  // Each candidate's tile (in parallel: it reads scattered bodies), then its row: counting
+  // sort by tile, ties in candidate order.
+  refill(row_of_, count);
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
+  for (std::size_t c = 0; c < count; ++c) row_of_[c] = tile(candidates_[c]);
   bucket_.assign(tiles + 1, 0);
-  for (const Candidate& k : candidates_) ++bucket_[tile(k) + 1];
+  for (std::size_t c = 0; c < count; ++c) ++bucket_[row_of_[c] + 1];
   for (int t = 0; t < tiles; ++t) bucket_[t + 1] += bucket_[t];
   tile_rows_.assign(bucket_.begin(), bucket_.end());
-  refill(row_of_, count);
-  for (std::size_t c = 0; c < count; ++c) row_of_[c] = bucket_[tile(candidates_[c])]++;
+  for (std::size_t c = 0; c < count; ++c) row_of_[c] = bucket_[row_of_[c]]++;
   refill(rows_, count);
   refill(row_bodies_, count);
   refill(row_age_, count);

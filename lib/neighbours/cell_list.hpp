@@ -3,6 +3,7 @@
 // whose minimum-image centre distance is below the cutoff is visited exactly once.
 // Small cells (fewer than 4 columns or 3 rows) fall back to an all-pairs loop,
 // which is exact but O(N²).
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,12 @@ class CellList {
   // Order is deterministic (cell by cell); i < j is not guaranteed.
   template <class F>
   void for_each_pair(const std::vector<Vec2>& positions, F&& f) const;
+
+  // The part of for_each_pair() that starts in cell rows [first, last) (all pairs for the
+  // brute-force fallback if first == 0, none otherwise): disjoint row ranges visit disjoint
+  // pairs, so threads can share the rows.
+  template <class F>
+  void for_each_pair_in_rows(int first, int last, const std::vector<Vec2>& positions, F&& f) const;
 
   // Same, collected as (i, j) with i < j, sorted: the reference order used by tests.
   std::vector<std::pair<int, int>> pairs(const std::vector<Vec2>& positions) const;
@@ -58,8 +65,14 @@ void CellList::visit_cells(int a, int b, const std::vector<Vec2>& positions, F& 
 
 template <class F>
 void CellList::for_each_pair(const std::vector<Vec2>& positions, F&& f) const {
+  for_each_pair_in_rows(0, ny_, positions, f);
+}
+
+template <class F>
+void CellList::for_each_pair_in_rows(int first, int last, const std::vector<Vec2>& positions, F&& f) const {
   const int n = int(positions.size());
   if (brute_) {
+    if (first != 0) return;
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
         Vec2 d = box_.minimum_image(positions[i] - positions[j]);
@@ -68,7 +81,7 @@ void CellList::for_each_pair(const std::vector<Vec2>& positions, F&& f) const {
     return;
   }
   auto wrapx = [this](int c) { return ((c % nx_) + nx_) % nx_; };
-  for (int cy = 0; cy < ny_; ++cy) {
+  for (int cy = std::max(first, 0); cy < std::min(last, ny_); ++cy) {
     for (int cx = 0; cx < nx_; ++cx) {
       const int a = cy * nx_ + cx;
       visit_cells(a, a, positions, f);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "core/random.hpp"
 #include "geometry/box.hpp"
@@ -130,4 +131,40 @@ TEST(CellListSearch, OpenBoxMatchesBruteForce) {
   CellList cells;
   cells.build(r, box, 2.2);
   EXPECT_EQ(cells.pairs(r), brute_pairs(box, r, 2.2));
+}
+
+// Threads search bands of cell rows (Engine::rebuild_pairs): any partition of the rows into
+// bands must visit every pair exactly once, as the whole search does, with the same d.
+TEST(CellListSearch, BandsOfRowsPartitionThePairs) {
+  Rng rng(21);
+  for (bool periodic : {true, false}) {
+    Box box{40.0, periodic ? 37.0 : 0.0, periodic, periodic ? 17.3 : 0.0};
+    auto r = random_positions(rng, box, 900);
+    CellList cells;
+    cells.build(r, box, 2.1);
+    ASSERT_FALSE(cells.brute_force());
+    ASSERT_GE(cells.rows(), 8);
+    std::vector<std::tuple<int, int, double, double>> whole, banded;
+    cells.for_each_pair(r, [&](int i, int j, const Vec2& d) { whole.emplace_back(i, j, d.x(), d.y()); });
+    for (int bands : {1, 2, 3, 7}) {
+      banded.clear();
+      for (int b = 0; b < bands; ++b)
+        cells.for_each_pair_in_rows(cells.rows() * b / bands, cells.rows() * (b + 1) / bands, r,
+                                    [&](int i, int j, const Vec2& d) { banded.emplace_back(i, j, d.x(), d.y()); });
+      // Bands in order reproduce the whole search in its order, bit for bit.
+      EXPECT_EQ(banded, whole) << bands << " bands, periodic " << periodic;
+    }
+    EXPECT_EQ(whole.size(), brute_pairs(box, r, 2.1).size());
+  }
+  // The brute-force fallback visits everything in the band that starts at row 0.
+  Box tiny{5.0, 5.0, true, 1.0};
+  auto r = random_positions(rng, tiny, 30);
+  CellList cells;
+  cells.build(r, tiny, 2.0);
+  ASSERT_TRUE(cells.brute_force());
+  int first = 0, rest = 0;
+  cells.for_each_pair_in_rows(0, 1, r, [&](int, int, const Vec2&) { ++first; });
+  cells.for_each_pair_in_rows(1, cells.rows(), r, [&](int, int, const Vec2&) { ++rest; });
+  EXPECT_EQ(first, int(brute_pairs(tiny, r, 2.0).size()));
+  EXPECT_EQ(rest, 0);
 }
