@@ -28,9 +28,11 @@ struct Sums {
   double w2 = 0, w2_over_d = 0, force = 0, contacts = 0;
 };
 // With transient_frames > 0 it also records T and p, rising linearly over that many frames,
-// then constant (give or take a wiggle of 10⁻³).
+// then constant (give or take a wiggle of 10⁻³); with series_frames ≥ 0, only for the first
+// series_frames frames (a corrupt file: T and p shorter than the strain).
 Sums write_pairs_run(const std::string& path, double nu, double e, double distance, int frames, int first_used,
-                     bool with_contacts = true, std::uint64_t seed = 1, int transient_frames = 0) {
+                     bool with_contacts = true, std::uint64_t seed = 1, int transient_frames = 0,
+                     int series_frames = -1) {
   Rng rng(seed);
   io::TrajectoryWriter w(path);
   io::Parameters p;
@@ -81,7 +83,7 @@ Sums write_pairs_run(const std::string& path, double nu, double e, double distan
     if (!with_contacts) f.contacts.clear();
     w.append_frame(f);
     w.append_observable("strain", f.step, f.time, f.time);
-    if (transient_frames > 0) {
+    if (transient_frames > 0 && (series_frames < 0 || k < series_frames)) {
       const double level = std::min(1.0, double(k) / transient_frames);
       w.append_observable("temperature", f.step, f.time, level + 1e-3 * std::sin(0.7 * k));
       w.append_observable("pressure", f.step, f.time, 3 * level + 1e-3 * std::cos(0.3 * k));
@@ -246,6 +248,15 @@ TEST(GfCorrelate, DetectedTransientIsSkipped) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("temperature"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "bare_out.h5"));
+  // T and p must have the strain's length, or MSER would read past their end.
+  const std::string cut = dir / "cut.h5";
+  write_pairs_run(cut, 0.6, 0.5, 1.3, 40, 0, true, 1, 20, 30);
+  r = run_tool("gf-correlate", cut + " -o " + (dir / "cut_out.h5") + common + " --detect-transient");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("differ in length"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "cut_out.h5"));
+  // Without --detect-transient T and p are not read: the run is usable.
+  EXPECT_EQ(run_tool("gf-correlate", cut + " -o " + (dir / "cut_fixed.h5") + common).exit_code, 0);
 }
 
 TEST(GfCorrelate, RealShearRun) {
