@@ -70,7 +70,9 @@ def steady_start_note(table):
             f"{from_strain:g}" + (", or later where MSER on the block means of T and p finds the run's transient "
                                   "longer (at most half of the run)" if int(prm.get("detect_transient", 0)) else "")
             + f". Runs last strain {strain.min():g}–{strain.max():g}; {len(late)} of {len(start)} start later than "
-            f"{from_strain:g} (up to {start.max():.3g}).")
+            f"{from_strain:g} (up to {start.max():.3g}). Error bars are those of each run's time average (blocking): "
+            "they leave out the spread between packings at the same ν, which in dilute flows can be several times "
+            "larger (README, “Paper size, e = 0”).")
     if "stationary" in runs:
         bad = [i for i in range(len(start)) if not runs["stationary"][i]]
         text += (f" ‡ marks a run whose steady part is not stationary (the means of T or p over its halves differ by "
