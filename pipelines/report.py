@@ -137,8 +137,7 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
 
     # Fig 4.3: transient and fluctuations of the invariants, from where the tables start the run.
     run = ss.read_run(reference_path)
-    if int(bagnold["parameters"].get("detect_transient", 0)):
-        from_strain = ss.steady_start(run, from_strain)
+    from_strain = ss.steady_start(run, from_strain, int(bagnold["parameters"].get("detect_transient", 0)))
     end = float(run["series"]["strain"][-1])
     middle = 0.5 * (from_strain + end)
     first, second = ss.steady_values(run, from_strain, middle)[0], ss.steady_values(run, middle)[0]

@@ -212,10 +212,12 @@ def mser_truncation(x):
     return int(np.argmin(stat))
 
 
-def steady_start(run, from_strain):
-    """Strain at which the steady part starts: the later of from_strain and MSER's truncation
-    of the block means of T and of p (TRANSIENT_BLOCKS blocks of equal length over the run,
-    the rows left over at the end not in any)."""
+def steady_start(run, from_strain, detect_transient=True):
+    """Strain at which the steady part starts: from_strain, or with detect_transient the later
+    of from_strain and MSER's truncation of the block means of T and of p (TRANSIENT_BLOCKS
+    blocks of equal length over the run, the rows left over at the end not in any)."""
+    if not detect_transient:
+        return from_strain
     strain = run["series"]["strain"]
     rows = max(1, len(strain) // TRANSIENT_BLOCKS)
     blocks = len(strain) // rows
@@ -280,7 +282,7 @@ def analyse(paths, from_strain, detect_transient=False):
     for path in paths:
         try:
             run = read_run(path)
-            start = steady_start(run, from_strain) if detect_transient else from_strain
+            start = steady_start(run, from_strain, detect_transient)
             values, diagnostics, n = steady_values(run, start)
             z = halves_z(run, start)
         except (OSError, KeyError, ValueError, ZeroDivisionError) as exc:
@@ -354,12 +356,18 @@ def select(table, **columns):
     return idx[np.argsort(table["runs"]["packing_fraction"][idx], kind="stable")]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def add_start_options(ap):
+    """--from-strain and --detect-transient, the options of steady_start(), for every script
+    that averages a run's steady part."""
     ap.add_argument("--from-strain", type=float, default=0.5, help="skip the transient before this strain (0.5)")
     ap.add_argument("--detect-transient", action="store_true",
                     help="start a run's steady part later than --from-strain where its own transient ends "
                          "(MSER on block means of T and p)")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_start_options(ap)
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("runs", nargs="+", help="gf-shear trajectories")
     args = ap.parse_args()

@@ -23,9 +23,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("output")
     ap.add_argument("runs", nargs="+")
-    ap.add_argument("--from-strain", type=float, default=0.5)
-    ap.add_argument("--detect-transient", action="store_true",
-                    help="start the steady mean where the run's transient ends, as steady_state.py does")
+    ss.add_start_options(ap)
     args = ap.parse_args()
     runs = sorted((ss.read_run(p) for p in args.runs), key=lambda r: r["parameters"]["rate"])
     fig, axes = plt.subplots(len(runs), 1, figsize=(7, 2.4 * len(runs)), sharex=True, sharey=True,
@@ -34,7 +32,7 @@ def main():
         prm, ser = run["parameters"], run["series"]
         scale = 1 / (prm["rate"] ** 2 * prm["mean_mass"])
         ax.plot(ser["strain"], ser["pressure"] * scale, lw=0.5, color="tab:blue")
-        start = ss.steady_start(run, args.from_strain) if args.detect_transient else args.from_strain
+        start = ss.steady_start(run, args.from_strain, args.detect_transient)
         value, err, _ = ss.steady_values(run, start)[0]["pressure_scaled"]
         ax.axhspan(value - err, value + err, color="tab:orange", alpha=0.4)
         ax.axhline(value, color="tab:orange", lw=1, label=f"steady mean {value:.4g} ± {err:.2g}")

@@ -25,13 +25,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("input")
     ap.add_argument("output")
-    ap.add_argument("--from-strain", type=float, default=0.5)
-    ap.add_argument("--detect-transient", action="store_true",
-                    help="start the steady mean where the run's transient ends, as steady_state.py does")
+    ss.add_start_options(ap)
     args = ap.parse_args()
     run = ss.read_run(args.input)
     series = ss.invariant_series(run)
-    start = ss.steady_start(run, args.from_strain) if args.detect_transient else args.from_strain
+    start = ss.steady_start(run, args.from_strain, args.detect_transient)
     steady = ss.steady_values(run, start)[0]
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     for ax, (name, label) in zip(axes, PANELS):
