@@ -216,5 +216,51 @@ TEST(Cluster, TriangleFrictional) {
   }
 }
 
+// A large frictionless cluster of trees and loops, squeezed together: a chain of 30 disks,
+// one end on a fixed disk, with a hexagonal patch on it (triangles: loops) and columns
+// leaning on it (a comb: trees, eliminated in grain space). Gauss–Seidel alone needs
+// hundreds of sweeps on such a chain; the exact cluster solve must land on the same
+// velocities (unique without friction) within a few sweeps, so an error in its elimination
+// shows either as a wrong state or as many sweeps.
+TEST(Cluster, TreesAndLoopsSolvedExactly) {
+  std::vector<Vec2> pos;
+  for (int k = 0; k < 30; ++k) pos.emplace_back(10 + k, 10);
+  for (int k = 0; k < 5; ++k) pos.emplace_back(10.5 + k, 10 + std::sqrt(3.0) / 2);
+  const double pi = std::acos(-1.0);
+  for (auto [foot, degrees] : {std::pair(10, 60), std::pair(14, 120), std::pair(18, 75), std::pair(22, 100),
+                               std::pair(26, 50)})
+    for (int h = 1; h <= 4; ++h)  // leaning columns: leaves pushing at angles
+      pos.push_back(Vec2(10 + foot, 10) + h * Vec2(std::cos(degrees * pi / 180), std::sin(degrees * pi / 180)));
+  pos.emplace_back(9, 10);  // the fixed disk
+  GrainState s = make_grains(pos, std::vector<double>(pos.size(), 0.5));
+  s.fixed.back() = 1;
+  Rng rng(7);
+  const Vec2 centre(25, 11);
+  for (std::size_t g = 0; g + 1 < s.size(); ++g)
+    s.velocity[g] = centre - s.position[g] + 0.05 * Vec2(rng.normal(), rng.normal());
+  const Material mat{0.0, 0.0, 0.0};
+  Box box;
+  box.lx = box.ly = 80;
+  SolverSettings settings;
+  settings.tolerance = 1e-14;
+  settings.alert_distance = 0.1;
+  Engine clusters(s, box, 0.0, mat, settings, 1e-3);
+  settings.cluster_solves = false;
+  settings.max_iterations = 200000;
+  Engine plain(s, box, 0.0, mat, settings, 1e-3);
+  const StepReport& a = clusters.step();
+  const StepReport& b = plain.step();
+  ASSERT_TRUE(a.converged && b.converged);
+  std::cout << "Cluster: " << a.contacts << " contacts; " << a.iterations << " sweeps, " << a.cluster_solves
+            << " cluster solves (largest " << a.largest_cluster << " rows); " << b.iterations
+            << " sweeps without\n";
+  EXPECT_GE(a.contacts, 50);
+  EXPECT_GE(a.largest_cluster, 50);
+  EXPECT_GT(b.iterations, 200);
+  EXPECT_LE(a.iterations, 30);  // 13 (the contact-space solve too); errors in the elimination: 180 or more
+  for (std::size_t g = 0; g < s.size(); ++g)
+    EXPECT_LT((clusters.state().velocity[g] - plain.state().velocity[g]).norm(), 1e-9) << "grain " << g;
+}
+
 }  // namespace
 }  // namespace granflow
