@@ -814,9 +814,10 @@ void Engine::solve_clusters() {
 
   // Clusters go to the threads whole, largest first; one that holds more than a thread's
   // share of all the rows (and at least kSharedClusterRows: the percolating cluster) would
-  // keep one thread busy while the others wait, so it is factorised by all threads together
-  // instead, after the others. The clusters are independent: the same result either way.
-  cluster_scratch_.resize(threads);
+  // keep one thread busy while the others wait, so its loops are factorised by all threads
+  // together instead, after the others. The clusters are independent: the same result
+  // either way. (Eliminating its leaves, serial work, on one thread while the others took
+  // the small clusters gave no measurable gain at N = 10⁵.)
   if (slot_.size() != std::size_t(n)) slot_.assign(n, -1);  // left at −1 by every solve
   large_.clear();
   cluster_order_.clear();
@@ -826,6 +827,7 @@ void Engine::solve_clusters() {
     report_.largest_cluster = std::max(report_.largest_cluster, size(k));
     (threads > 1 && size(k) >= shared_at ? large_ : cluster_order_).push_back(k);
   }
+  cluster_scratch_.resize(threads);
   if (threads > 1)
     std::stable_sort(cluster_order_.begin(), cluster_order_.end(), [&](int a, int b) { return size(a) > size(b); });
   std::int64_t visits = 0;
@@ -844,6 +846,25 @@ void Engine::solve_clusters() {
   }
 }
 
+void Engine::PeelBody::invert() {
+  if (state != kMass) return;
+  const double inv_det = 1 / (a11 * a22 - a12 * a12);
+  const double i11 = a22 * inv_det, i12 = -a12 * inv_det, i22 = a11 * inv_det;
+  a11 = i11;
+  a12 = i12;
+  a22 = i22;
+  state = kInverse;
+}
+
+void Engine::PeelBody::to_velocity() {
+  invert();
+  if (state != kInverse) return;
+  const double x = fx, y = fy;
+  fx = a11 * x + a12 * y;
+  fy = a12 * x + a22 * y;
+  state = kVelocity;
+}
+
 // The solve of cluster k (see solve_clusters()). Its result is undone (impulses restored
 // exactly, velocities up to round-off) if it makes things much worse; nothing changes if
 // its factor would be too large to pay off. Returns the contact updates it made: each row's
@@ -853,17 +874,23 @@ void Engine::solve_clusters() {
 // are eliminated in grain space, as in an articulated-body solve, before anything is
 // assembled. With A_b the effective mass (2×2) of leaf body b, f_b the force its own leaves
 // put on it, g = ±n̂ the direction row c pushes b and r_c = b_c − u_c, row c's impulse is
-//    ΔP_c = ρ_c + g·Δv_o / κ_c,   κ_c = g·A_b⁻¹g,   ρ_c = (r_c − g·A_b⁻¹f_b) / κ_c,
+//    ΔP_c = ρ_c + g·Δv_o / κ_c,   κ_c = g·A_b⁻¹g,   ρ_c = (r_c − g·A_b⁻¹f_b) / κ_c
 // so that the other body o of the row takes A_o += g gᵀ/κ_c and f_o −= ρ_c g. The rows left
 // (loops) are solved exactly by sparse LDLᵀ of W = H A⁻¹ Hᵀ on them; then the leaves, in
 // reverse order, get their impulses from Δv_o and their bodies Δv_b = A_b⁻¹(f_b + g ΔP_c).
 int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
-  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
+  peel_cluster(k, w);
+  return finish_cluster(w, threads);
+}
+
+// Numbers cluster k's rows in w.order, leaves first (w.peeled of them, eliminated as they are
+// numbered), then the loops, in sweep order.
+void Engine::peel_cluster(int k, ClusterScratch& w) {
   const int* members = cluster_rows_.data() + cluster_start_[k];
   const int m = cluster_start_[k + 1] - cluster_start_[k];
   w.order.clear();
   w.leaf.clear();
-  w.kappa.clear();
+  w.inv_kappa.clear();
   w.rho.clear();
   w.bodies.clear();
   w.body.clear();
@@ -882,35 +909,17 @@ int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
     }
     return s;
   };
-  auto invert = [](PeelBody& p) {
-    if (p.state != PeelBody::kMass) return;
-    const double det = p.a11 * p.a22 - p.a12 * p.a12;
-    const double i11 = p.a22 / det, i12 = -p.a12 / det, i22 = p.a11 / det;
-    p.a11 = i11;
-    p.a12 = i12;
-    p.a22 = i22;
-    p.state = PeelBody::kInverse;
-  };
-  // Δv of a body whose force is final (its own leaves and the loops' impulses all counted).
-  auto velocity = [&](PeelBody& p) {
-    invert(p);
-    if (p.state == PeelBody::kInverse) {
-      const double fx = p.fx, fy = p.fy;
-      p.fx = p.a11 * fx + p.a12 * fy;
-      p.fy = p.a12 * fx + p.a22 * fy;
-      p.state = PeelBody::kVelocity;
-    }
-  };
   auto gap_rate = [&](const Row& r) {  // r_c = b_c − u_c at the current velocities
     const Body &bi = bodies_[r.i], &bj = bodies_[r.j];
     return r.bn - ((bi.vx - bj.vx) * r.nx + (bi.vy - bj.vy) * r.ny);
   };
 
-  // Leaves first, eliminated as they are numbered.
+  // Leaves first, eliminated as they are numbered. Most leaf bodies carry no leaves of their
+  // own (A_b = m·I, f_b = 0): they need no slot, their velocity change is never asked for.
   w.peel.clear();
   for (int q = 0; q < m; ++q)
-    for (int b : {rows_[members[q]].i, rows_[members[q]].j})
-      if (mobile(b) && degree_[b] == 1) w.peel.push_back(b);
+    for (int b : row_bodies_[members[q]])
+      if (b >= 0 && degree_[b] == 1) w.peel.push_back(b);
   for (std::size_t q = 0; q < w.peel.size(); ++q) {
     const int b = w.peel[q];
     for (int p = body_start_[b]; p < body_start_[b + 1]; ++p) {
@@ -919,20 +928,29 @@ int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
       number(c);
       w.leaf.push_back(b);
       const Row& r = rows_[c];
-      const int o = r.i == b ? r.j : r.i;
-      const double s = r.i == b ? 1.0 : -1.0, gx = s * r.nx, gy = s * r.ny;
-      PeelBody& pb = w.body[slot(b)];
-      invert(pb);
-      const double kx = pb.a11 * gx + pb.a12 * gy, ky = pb.a12 * gx + pb.a22 * gy;
-      const double kappa = gx * kx + gy * ky;
-      const double rho = (gap_rate(r) - (kx * pb.fx + ky * pb.fy)) / kappa;  // g·A⁻¹f = (A⁻¹g)·f
-      w.kappa.push_back(kappa);
+      const bool first = r.i == b;
+      const int o = first ? row_bodies_[c][1] : row_bodies_[c][0];  // −1: fixed
+      const double gx = first ? r.nx : -r.nx, gy = first ? r.ny : -r.ny;
+      double kx, ky, hf = 0;  // A_b⁻¹g and g·A_b⁻¹f_b = (A_b⁻¹g)·f_b
+      if (slot_[b] < 0) {
+        kx = bodies_[b].inv_mass * gx;
+        ky = bodies_[b].inv_mass * gy;
+      } else {
+        PeelBody& pb = w.body[slot_[b]];
+        pb.invert();
+        kx = pb.a11 * gx + pb.a12 * gy;
+        ky = pb.a12 * gx + pb.a22 * gy;
+        hf = kx * pb.fx + ky * pb.fy;
+      }
+      const double inv_kappa = 1 / (gx * kx + gy * ky);
+      const double rho = (gap_rate(r) - hf) * inv_kappa;
+      w.inv_kappa.push_back(inv_kappa);
       w.rho.push_back(rho);
-      if (mobile(o)) {
+      if (o >= 0) {
         PeelBody& po = w.body[slot(o)];
-        po.a11 += gx * gx / kappa;
-        po.a12 += gx * gy / kappa;
-        po.a22 += gy * gy / kappa;
+        po.a11 += gx * gx * inv_kappa;
+        po.a12 += gx * gy * inv_kappa;
+        po.a22 += gy * gy * inv_kappa;
         po.fx -= rho * gx;
         po.fy -= rho * gy;
         if (--degree_[o] == 1) w.peel.push_back(o);
@@ -944,8 +962,15 @@ int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
     if (unknown_[members[q]] < 0) number(members[q]);
   // The loops' bodies carrying leaves see them through A⁻¹ and f.
   for (int u = peeled; u < m; ++u)
-    for (int b : {rows_[w.order[u]].i, rows_[w.order[u]].j})
-      if (mobile(b) && slot_[b] >= 0) invert(w.body[slot_[b]]);
+    for (int b : row_bodies_[w.order[u]])
+      if (b >= 0 && slot_[b] >= 0) w.body[slot_[b]].invert();
+  w.peeled = peeled;
+}
+
+// The rest of a cluster solve, after peel_cluster(): the loops' factor and solve, the leaves'
+// impulses, the new impulses applied (or undone).
+int Engine::finish_cluster(ClusterScratch& w, int threads) {
+  const int m = int(w.order.size()), peeled = w.peeled;
 
   // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in sweep
   // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
@@ -968,28 +993,32 @@ int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
     for (int u = peeled; u < m; ++u) {
       const double dp = w.rhs[u];
       const Row& r = rows_[w.order[u]];
-      for (const auto& [b, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
-        if (!mobile(b) || slot_[b] < 0) continue;
+      const auto [bi, bj] = row_bodies_[w.order[u]];
+      for (const auto& [b, sign] : {std::pair(bi, 1.0), std::pair(bj, -1.0)}) {
+        if (b < 0 || slot_[b] < 0) continue;
         PeelBody& p = w.body[slot_[b]];
         p.fx += sign * dp * r.nx;
         p.fy += sign * dp * r.ny;
       }
     }
     for (int u = peeled - 1; u >= 0; --u) {
-      const Row& r = rows_[w.order[u]];
-      const int b = w.leaf[u], o = r.i == b ? r.j : r.i;
-      const double s = r.i == b ? 1.0 : -1.0, gx = s * r.nx, gy = s * r.ny;
+      const int c = w.order[u], b = w.leaf[u];
+      const Row& r = rows_[c];
+      const bool first = r.i == b;
+      const int o = first ? row_bodies_[c][1] : row_bodies_[c][0];
+      const double gx = first ? r.nx : -r.nx, gy = first ? r.ny : -r.ny;
       double dp = w.rho[u];
-      if (mobile(o)) {
+      if (o >= 0) {
         PeelBody& po = w.body[slot_[o]];
-        velocity(po);
-        dp += (gx * po.fx + gy * po.fy) / w.kappa[u];
+        po.to_velocity();
+        dp += (gx * po.fx + gy * po.fy) * w.inv_kappa[u];
       }
       w.rhs[u] = dp;
+      if (slot_[b] < 0) continue;  // nothing hangs on b
       PeelBody& pb = w.body[slot_[b]];
       pb.fx += dp * gx;
       pb.fy += dp * gy;
-      velocity(pb);
+      pb.to_velocity();
     }
     // The step is undone if it multiplies the cluster's largest local correction by more
     // than kClusterSolveGrowth. When the active set is hyperstatic (jammed, ν near ν_c)
@@ -1297,7 +1326,7 @@ std::size_t Engine::allocated_bytes() const {
   for (const auto& b : candidate_blocks_) blocks += bytes(b);
   for (const ClusterScratch& w : cluster_scratch_)
     blocks += bytes(w.order) + bytes(w.peel) + bytes(w.start) + bytes(w.row) + bytes(w.value) + bytes(w.rhs) +
-              bytes(w.leaf) + bytes(w.bodies) + bytes(w.kappa) + bytes(w.rho) + bytes(w.body) +
+              bytes(w.leaf) + bytes(w.bodies) + bytes(w.inv_kappa) + bytes(w.rho) + bytes(w.body) +
               w.ldl.allocated_bytes();
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +

@@ -200,6 +200,8 @@ class Engine {
   struct ClusterScratch;
   void solve_clusters();
   int solve_cluster(int k, ClusterScratch& w, int threads);
+  void peel_cluster(int k, ClusterScratch& w);
+  int finish_cluster(ClusterScratch& w, int threads);
   void assemble_cluster(ClusterScratch& w, int first, int threads) const;
   void order_loops(ClusterScratch& w, int first);
   double cluster_residual(const ClusterScratch& w, int threads) const;
@@ -268,14 +270,17 @@ class Engine {
     enum State : int { kMass, kInverse, kVelocity };
     double a11, a12, a22, fx, fy;
     State state;
+    void invert();       // A → A⁻¹
+    void to_velocity();  // f → Δv = A⁻¹f, once f is final
   };
   struct ClusterScratch {
     std::vector<int> order, peel, start, row;
     std::vector<double> value, rhs;
     SparseLdl ldl;
     std::vector<int> leaf, bodies;      // per leaf row its leaf body; the bodies given a slot
-    std::vector<double> kappa, rho;     // per leaf row κ and ρ
+    std::vector<double> inv_kappa, rho;  // per leaf row 1/κ and ρ
     std::vector<PeelBody> body;
+    int peeled = 0;  // leaf rows, numbered first
   };
   std::vector<ClusterScratch> cluster_scratch_;
 

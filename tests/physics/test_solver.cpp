@@ -573,6 +573,7 @@ TEST(Solver, NearlyJammedStartStaysBounded) {
 // targets; see bench/bench_engine.cpp).
 TEST(Solver, MemoryPerGrain) {
   Engine engine = warm_shear({0.5, 0.0, 0.0}, 0.8, {});
+  std::cout << "Solver: " << double(engine.allocated_bytes()) / double(engine.state().size()) << " B per grain\n";
   EXPECT_LT(engine.allocated_bytes(), 1024 * engine.state().size());
 }
 
