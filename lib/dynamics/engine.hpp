@@ -261,8 +261,6 @@ class Engine {
   std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;
   std::vector<int> slot_;  // per body: its PeelBody in the scratch of the cluster solving it, else −1
-  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
-  // by columns), right-hand side and factor.
   // A body of the cluster being solved, in the grain-space elimination of its leaves (see
   // solve_cluster()): its effective mass A, then A⁻¹; the force f its leaves put on it,
   // then its velocity change.
@@ -273,6 +271,8 @@ class Engine {
     void invert();       // A → A⁻¹
     void to_velocity();  // f → Δv = A⁻¹f, once f is final
   };
+  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix of its loops
+  // (upper triangle by columns), right-hand side and factor, and its leaves' elimination.
   struct ClusterScratch {
     std::vector<int> order, peel, start, row;
     std::vector<double> value, rhs;
