@@ -14,10 +14,8 @@
 // would only measure the noise of the machine). BM_Shear's counters use the CPU time of the
 // process, which other work on the machine inflates least; BM_Threads' the wall time:
 //   s/strain         time per unit strain            steps/s      steps per second
-//   updates/s        contact updates per second (one visit of one contact: in a sweep, a
-//                    residual check, or a cluster solve, three per row: residual before and
-//                    after, new impulse)
-//   sweep+check upd/s  the same without the cluster solves' visits (the count until 2026-11-24)
+//   updates/s        local contact solves per second (one visit of one contact, in a sweep
+//                    or a residual check)
 //   sweeps           mean Gauss–Seidel sweeps per step   clusters   mean cluster solves per step
 //   candidates, contacts   per step (mean)            rebuilds     pair-list rebuilds per step
 //   ns/grain         time per grain per step        B/grain      Engine::allocated_bytes() / N
@@ -83,8 +81,7 @@ void run_shear(benchmark::State& state, bool wall, bool cluster_solves = true) {
   const int threads = int(state.range(6));
   Engine engine = sheared(grains, nu, mu, strain_step, 1e-10, threads, cluster_solves);
   for (std::int64_t k = 0; k < warm; ++k) engine.step();
-  double sweeps = 0, clusters = 0, candidates = 0, contacts = 0, updates = 0, cluster_updates = 0, rebuilds = 0,
-         unconverged = 0;
+  double sweeps = 0, clusters = 0, candidates = 0, contacts = 0, updates = 0, rebuilds = 0, unconverged = 0;
   double seconds = 0;
   for (auto _ : state) {
     const double start_cpu = cpu_seconds(), start_wall = wall_seconds();
@@ -95,7 +92,6 @@ void run_shear(benchmark::State& state, bool wall, bool cluster_solves = true) {
       candidates += r.candidates;
       contacts += r.contacts;
       updates += double(r.contact_updates);
-      cluster_updates += double(r.cluster_updates);
       rebuilds += r.pairs_rebuilt;
       unconverged += !r.converged;
     }
@@ -105,8 +101,6 @@ void run_shear(benchmark::State& state, bool wall, bool cluster_solves = true) {
   state.counters["s/strain"] = seconds / (n * strain_step);
   state.counters["steps/s"] = n / seconds;
   state.counters["updates/s"] = updates / seconds;
-  // Without the cluster solves' visits: the count of this benchmark until 2026-11-24.
-  state.counters["sweep+check upd/s"] = (updates - cluster_updates) / seconds;
   state.counters["ns/grain"] = 1e9 * seconds / (n * double(grains));
   state.counters["sweeps"] = sweeps / n;
   state.counters["clusters"] = clusters / n;

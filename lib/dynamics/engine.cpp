@@ -814,11 +814,9 @@ void Engine::solve_clusters() {
 
   // Clusters go to the threads whole, largest first; one that holds more than a thread's
   // share of all the rows (and at least kSharedClusterRows: the percolating cluster) would
-  // keep one thread busy while the others wait, so its loops are factorised by all threads
-  // together instead, after the others. The clusters are independent: the same result
-  // either way. (Eliminating its leaves, serial work, on one thread while the others took
-  // the small clusters gave no measurable gain at N = 10⁵.)
-  if (slot_.size() != std::size_t(n)) slot_.assign(n, -1);  // left at −1 by every solve
+  // keep one thread busy while the others wait, so it is factorised by all threads together
+  // instead, after the others. The clusters are independent: the same result either way.
+  cluster_scratch_.resize(threads);
   large_.clear();
   cluster_order_.clear();
   const int shared_at = std::max(kSharedClusterRows, int(active_.size()) / threads);
@@ -827,16 +825,12 @@ void Engine::solve_clusters() {
     report_.largest_cluster = std::max(report_.largest_cluster, size(k));
     (threads > 1 && size(k) >= shared_at ? large_ : cluster_order_).push_back(k);
   }
-  cluster_scratch_.resize(threads);
   if (threads > 1)
     std::stable_sort(cluster_order_.begin(), cluster_order_.end(), [&](int a, int b) { return size(a) > size(b); });
-  std::int64_t visits = 0;
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic) reduction(+ : visits)
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)
   for (std::size_t q = 0; q < cluster_order_.size(); ++q)
-    visits += solve_cluster(cluster_order_[q], cluster_scratch_[omp_get_thread_num()], 1);
-  for (int k : large_) visits += solve_cluster(k, cluster_scratch_[0], threads);
-  report_.contact_updates += visits;
-  report_.cluster_updates += visits;
+    solve_cluster(cluster_order_[q], cluster_scratch_[omp_get_thread_num()], 1);
+  for (int k : large_) solve_cluster(k, cluster_scratch_[0], threads);
   // Velocities changed only at the bodies of these rows: their tiles are swept next (the
   // rows are in ascending order, as in the working set, and rows are stored tile by tile).
   int tile = 0;
@@ -846,180 +840,54 @@ void Engine::solve_clusters() {
   }
 }
 
-void Engine::PeelBody::invert() {
-  if (state != kMass) return;
-  const double inv_det = 1 / (a11 * a22 - a12 * a12);
-  const double i11 = a22 * inv_det, i12 = -a12 * inv_det, i22 = a11 * inv_det;
-  a11 = i11;
-  a12 = i12;
-  a22 = i22;
-  state = kInverse;
-}
-
-void Engine::PeelBody::to_velocity() {
-  invert();
-  if (state != kInverse) return;
-  const double x = fx, y = fy;
-  fx = a11 * x + a12 * y;
-  fy = a12 * x + a22 * y;
-  state = kVelocity;
-}
-
-// The solve of cluster k (see solve_clusters()). Its result is undone (impulses restored
-// exactly, velocities up to round-off) if it makes things much worse; nothing changes if
-// its factor would be too large to pay off. Returns the contact updates it made: each row's
-// residual before and after and its new impulse, three per row, once solved.
-//
-// Clusters are mostly trees: rows at a body left with a single unnumbered row ("leaves")
-// are eliminated in grain space, as in an articulated-body solve, before anything is
-// assembled. With A_b the effective mass (2×2) of leaf body b, f_b the force its own leaves
-// put on it, g = ±n̂ the direction row c pushes b and r_c = b_c − u_c, row c's impulse is
-//    ΔP_c = ρ_c + g·Δv_o / κ_c,   κ_c = g·A_b⁻¹g,   ρ_c = (r_c − g·A_b⁻¹f_b) / κ_c
-// so that the other body o of the row takes A_o += g gᵀ/κ_c and f_o −= ρ_c g. The rows left
-// (loops) are solved exactly by sparse LDLᵀ of W = H A⁻¹ Hᵀ on them; then the leaves, in
-// reverse order, get their impulses from Δv_o and their bodies Δv_b = A_b⁻¹(f_b + g ΔP_c).
-int Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
-  peel_cluster(k, w);
-  return finish_cluster(w, threads);
-}
-
-// Numbers cluster k's rows in w.order, leaves first (w.peeled of them, eliminated as they are
-// numbered), then the loops, in sweep order.
-void Engine::peel_cluster(int k, ClusterScratch& w) {
+// The solve of cluster k (see solve_clusters()). Returns false when its factor would be too
+// large to pay off (nothing changed) or its result was undone (impulses restored exactly,
+// velocities up to round-off).
+bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
+  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   const int* members = cluster_rows_.data() + cluster_start_[k];
   const int m = cluster_start_[k + 1] - cluster_start_[k];
+  // Numbering (w.order[u] = row of unknown u): first peel leaves, bodies left with a single
+  // unnumbered row, since such a row eliminates without fill-in (clusters are mostly trees);
+  // then the loops that remain, in sweep order.
   w.order.clear();
-  w.leaf.clear();
-  w.inv_kappa.clear();
-  w.rho.clear();
-  w.bodies.clear();
-  w.body.clear();
   auto number = [&](int c) {
     unknown_[c] = int(w.order.size());
     w.order.push_back(c);
   };
-  // A body's slot in w.body, made on first use: mass m·I and no force.
-  auto slot = [&](int b) {
-    int& s = slot_[b];
-    if (s < 0) {
-      s = int(w.body.size());
-      const double mass = 1 / bodies_[b].inv_mass;
-      w.body.push_back({mass, 0, mass, 0, 0, PeelBody::kMass});
-      w.bodies.push_back(b);
-    }
-    return s;
-  };
-  auto gap_rate = [&](const Row& r) {  // r_c = b_c − u_c at the current velocities
-    const Body &bi = bodies_[r.i], &bj = bodies_[r.j];
-    return r.bn - ((bi.vx - bj.vx) * r.nx + (bi.vy - bj.vy) * r.ny);
-  };
-
-  // Leaves first, eliminated as they are numbered. Most leaf bodies carry no leaves of their
-  // own (A_b = m·I, f_b = 0): they need no slot, their velocity change is never asked for.
   w.peel.clear();
   for (int q = 0; q < m; ++q)
-    for (int b : row_bodies_[members[q]])
-      if (b >= 0 && degree_[b] == 1) w.peel.push_back(b);
+    for (int b : {rows_[members[q]].i, rows_[members[q]].j})
+      if (mobile(b) && degree_[b] == 1) w.peel.push_back(b);
   for (std::size_t q = 0; q < w.peel.size(); ++q) {
     const int b = w.peel[q];
     for (int p = body_start_[b]; p < body_start_[b + 1]; ++p) {
       const int c = body_rows_[p];
       if (unknown_[c] >= 0) continue;
       number(c);
-      w.leaf.push_back(b);
-      const Row& r = rows_[c];
-      const bool first = r.i == b;
-      const int o = first ? row_bodies_[c][1] : row_bodies_[c][0];  // −1: fixed
-      const double gx = first ? r.nx : -r.nx, gy = first ? r.ny : -r.ny;
-      double kx, ky, hf = 0;  // A_b⁻¹g and g·A_b⁻¹f_b = (A_b⁻¹g)·f_b
-      if (slot_[b] < 0) {
-        kx = bodies_[b].inv_mass * gx;
-        ky = bodies_[b].inv_mass * gy;
-      } else {
-        PeelBody& pb = w.body[slot_[b]];
-        pb.invert();
-        kx = pb.a11 * gx + pb.a12 * gy;
-        ky = pb.a12 * gx + pb.a22 * gy;
-        hf = kx * pb.fx + ky * pb.fy;
-      }
-      const double inv_kappa = 1 / (gx * kx + gy * ky);
-      const double rho = (gap_rate(r) - hf) * inv_kappa;
-      w.inv_kappa.push_back(inv_kappa);
-      w.rho.push_back(rho);
-      if (o >= 0) {
-        PeelBody& po = w.body[slot(o)];
-        po.a11 += gx * gx * inv_kappa;
-        po.a12 += gx * gy * inv_kappa;
-        po.a22 += gy * gy * inv_kappa;
-        po.fx -= rho * gx;
-        po.fy -= rho * gy;
-        if (--degree_[o] == 1) w.peel.push_back(o);
-      }
+      const int other = rows_[c].i == b ? rows_[c].j : rows_[c].i;
+      if (mobile(other) && --degree_[other] == 1) w.peel.push_back(other);
     }
   }
   const int peeled = int(w.order.size());
   for (int q = 0; q < m; ++q)
     if (unknown_[members[q]] < 0) number(members[q]);
-  // The loops' bodies carrying leaves see them through A⁻¹ and f.
-  for (int u = peeled; u < m; ++u)
-    for (int b : row_bodies_[w.order[u]])
-      if (b >= 0 && slot_[b] >= 0) w.body[slot_[b]].invert();
-  w.peeled = peeled;
-}
-
-// The rest of a cluster solve, after peel_cluster(): the loops' factor and solve, the leaves'
-// impulses, the new impulses applied (or undone).
-int Engine::finish_cluster(ClusterScratch& w, int threads) {
-  const int m = int(w.order.size()), peeled = w.peeled;
 
   // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in sweep
   // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
   // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
   auto factor = [&](std::size_t fill) {
-    assemble_cluster(w, peeled, threads);
-    return w.ldl.factor(m - peeled, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
+    assemble_cluster(w, threads);
+    return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
   };
-  bool factored = peeled == m || factor(4);
-  if (!factored) {
+  bool factored = factor(4);
+  if (!factored && peeled < m) {
     order_loops(w, peeled);
     factored = factor(8);
   }
+  bool accepted = false;
   if (factored) {
-    // ΔP per unknown, in w.rhs: the loops' from the factor, moved behind the leaves' places,
-    // and added to the forces on their bodies that carry leaves.
-    if (peeled < m) w.ldl.solve(w.rhs);
-    w.rhs.resize(m);
-    std::copy_backward(w.rhs.begin(), w.rhs.begin() + (m - peeled), w.rhs.end());
-    for (int u = peeled; u < m; ++u) {
-      const double dp = w.rhs[u];
-      const Row& r = rows_[w.order[u]];
-      const auto [bi, bj] = row_bodies_[w.order[u]];
-      for (const auto& [b, sign] : {std::pair(bi, 1.0), std::pair(bj, -1.0)}) {
-        if (b < 0 || slot_[b] < 0) continue;
-        PeelBody& p = w.body[slot_[b]];
-        p.fx += sign * dp * r.nx;
-        p.fy += sign * dp * r.ny;
-      }
-    }
-    for (int u = peeled - 1; u >= 0; --u) {
-      const int c = w.order[u], b = w.leaf[u];
-      const Row& r = rows_[c];
-      const bool first = r.i == b;
-      const int o = first ? row_bodies_[c][1] : row_bodies_[c][0];
-      const double gx = first ? r.nx : -r.nx, gy = first ? r.ny : -r.ny;
-      double dp = w.rho[u];
-      if (o >= 0) {
-        PeelBody& po = w.body[slot_[o]];
-        po.to_velocity();
-        dp += (gx * po.fx + gy * po.fy) * w.inv_kappa[u];
-      }
-      w.rhs[u] = dp;
-      if (slot_[b] < 0) continue;  // nothing hangs on b
-      PeelBody& pb = w.body[slot_[b]];
-      pb.fx += dp * gx;
-      pb.fy += dp * gy;
-      pb.to_velocity();
-    }
+    w.ldl.solve(w.rhs);
     // The step is undone if it multiplies the cluster's largest local correction by more
     // than kClusterSolveGrowth. When the active set is hyperstatic (jammed, ν near ν_c)
     // its equations can be inconsistent and near-singular: the solve then returns huge
@@ -1037,13 +905,12 @@ int Engine::finish_cluster(ClusterScratch& w, int threads) {
       w.rhs[u] = pn;  // kept for an undo
       set_normal_impulse(w.order[u], solved);
     }
-    const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
+    accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
     if (!accepted)
       for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
   }
   for (int c : w.order) unknown_[c] = -1;
-  for (int b : w.bodies) slot_[b] = -1;
-  return factored ? 3 * m : 0;
+  return accepted;
 }
 
 // Adds the normal impulse dpn of row r to its bodies' velocities. Fixed bodies (shared
@@ -1069,41 +936,31 @@ double Engine::cluster_residual(const ClusterScratch& w, int threads) const {
   return worst;
 }
 
-// The matrix of the cluster's loops (unknowns first … m − 1, numbered from 0), upper
-// triangle by columns, and right-hand side: W_ab = Σ over the mobile bodies shared by rows a
-// and b of (s_a n̂_a)·A⁻¹(s_b n̂_b), with s = +1 for the body of grain i, −1 for that of
-// grain j, and A⁻¹ = I/m for a body without leaves; b_a − u_a − n̂_a·(A_i⁻¹f_i − A_j⁻¹f_j)
-// at the current velocities. With threads, columns are counted, then filled in parallel
-// (same entries, same order).
-void Engine::assemble_cluster(ClusterScratch& w, int first, int threads) const {
-  const int m = int(w.order.size()) - first;
+// The cluster's matrix, upper triangle by columns in unknown order, and right-hand side:
+// W_ab = Σ over the mobile bodies shared by rows a and b of s_a·s_b·(n̂_a·n̂_b)/m, with
+// s = +1 for the body of grain i, −1 for that of grain j; b_a − u_a at the current velocities.
+// With threads, columns are counted, then filled in parallel (same entries, same order).
+void Engine::assemble_cluster(ClusterScratch& w, int threads) const {
+  const int m = int(w.order.size());
   w.start.assign(m + 1, 0);
   w.rhs.resize(m);
   // Calls emit(row, value) for each entry of column u, top to bottom as found; sets rhs[u].
   auto column = [&](int u, auto&& emit) {
-    const Row& a = rows_[w.order[first + u]];
+    const Row& a = rows_[w.order[u]];
     const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
-    double rhs = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
+    w.rhs[u] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
     for (int body : {a.i, a.j}) {
       const double inv_mass = bodies_[body].inv_mass;
       if (inv_mass == 0) continue;
       const double sa = body == a.i ? 1.0 : -1.0;
-      const PeelBody* leaves = slot_[body] >= 0 ? &w.body[slot_[body]] : nullptr;
-      double ax = a.nx, ay = a.ny;  // A⁻¹ n̂_a, over the body's mass for now
-      if (leaves) {
-        ax = leaves->a11 * a.nx + leaves->a12 * a.ny;
-        ay = leaves->a12 * a.nx + leaves->a22 * a.ny;
-        rhs -= sa * (ax * leaves->fx + ay * leaves->fy);
-      }
       for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
-        const int other = unknown_[body_rows_[p]] - first;
-        if (other < 0 || other > u) continue;
+        const int other = unknown_[body_rows_[p]];
+        if (other > u) continue;
         const Row& b = rows_[body_rows_[p]];
         const double sb = body == b.i ? 1.0 : -1.0;
-        emit(other, leaves ? sa * sb * (ax * b.nx + ay * b.ny) : sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
+        emit(other, sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
       }
     }
-    w.rhs[u] = rhs;
   };
   if (threads <= 1) {
     w.row.clear();
@@ -1165,7 +1022,6 @@ void Engine::solve() {
   StepReport& rep = report_;
   rep.iterations = 0;
   rep.contact_updates = 0;
-  rep.cluster_updates = 0;
   rep.cluster_solves = 0;
   rep.largest_cluster = 0;
   rep.residual = 0;
@@ -1191,9 +1047,7 @@ void Engine::solve() {
     } else if (clusters && it >= next_cluster_solve && 100 * status_changes_ <= active_rows_) {
       // The active set has (nearly) settled: solve its clusters exactly. While it keeps
       // changing, each solve waits twice as many sweeps as the one before, so that their
-      // number stays logarithmic in the sweeps of the step. (A first solve at 3 % of the
-      // rows changing is 4–5 % faster in dense shear, but in a pile coming to rest on a
-      // 5° incline it left 12 % of the steps at the sweep cap.)
+      // number stays logarithmic in the sweeps of the step.
       solve_clusters();  // marks the tiles of the rows it solved
       ++rep.cluster_solves;
       next_cluster_solve = it + cluster_wait;
@@ -1325,14 +1179,13 @@ std::size_t Engine::allocated_bytes() const {
   for (const auto& b : candidate_blocks_) blocks += bytes(b);
   for (const ClusterScratch& w : cluster_scratch_)
     blocks += bytes(w.order) + bytes(w.peel) + bytes(w.start) + bytes(w.row) + bytes(w.value) + bytes(w.rhs) +
-              bytes(w.leaf) + bytes(w.bodies) + bytes(w.inv_kappa) + bytes(w.rho) + bytes(w.body) +
               w.ldl.allocated_bytes();
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
          bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(bodies_) +
          bytes(rows_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
          bytes(moved_) + bytes(touched_) + bytes(tile_residual_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
-         bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) + bytes(slot_) +
+         bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
          bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +
          bytes(r.pre_normal_velocity) + bytes(r.age);

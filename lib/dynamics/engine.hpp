@@ -49,8 +49,7 @@
 //    large system cost what its few unsettled places cost, not what the system costs;
 //  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
 //    the clusters of active contacts still above the tolerance are solved exactly for
-//    that set (the trees eliminated in grain space, the loops left by sparse LDLᵀ);
-//    Gauss–Seidel then corrects the set if it was wrong. This
+//    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
 //    replaces the slow linear tail of Gauss–Seidel on large, tree-like clusters. Small
 //    clusters go to the threads whole; large ones (the percolating one) are factorised by
 //    all threads together, by subtrees of the elimination tree, with the same result.
@@ -96,10 +95,7 @@ struct StepReport {
   bool converged = true;
   int candidates = 0;          // pairs handed to the solver
   int contacts = 0;            // pairs with P_n > 0
-  // Solver visits of one contact: local solves in the working-set sweeps and residual checks,
-  // and three per row of each cluster solve (its residual before and after, its new impulse).
-  std::int64_t contact_updates = 0;
-  std::int64_t cluster_updates = 0;  // of these, those of the cluster solves
+  std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
   int cluster_solves = 0;      // passes of exact solves of frictionless clusters
   int largest_cluster = 0;     // active rows of the largest cluster solved exactly
   bool pairs_rebuilt = false;  // the pair list was rebuilt for the next step
@@ -199,10 +195,8 @@ class Engine {
   double check(bool everywhere);
   struct ClusterScratch;
   void solve_clusters();
-  int solve_cluster(int k, ClusterScratch& w, int threads);
-  void peel_cluster(int k, ClusterScratch& w);
-  int finish_cluster(ClusterScratch& w, int threads);
-  void assemble_cluster(ClusterScratch& w, int first, int threads) const;
+  bool solve_cluster(int k, ClusterScratch& w, int threads);
+  void assemble_cluster(ClusterScratch& w, int threads) const;
   void order_loops(ClusterScratch& w, int first);
   double cluster_residual(const ClusterScratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
@@ -260,27 +254,12 @@ class Engine {
   std::vector<std::size_t> chunk_start_;  // first contact of each chunk of candidates
   std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;
-  std::vector<int> slot_;  // per body: its PeelBody in the scratch of the cluster solving it, else −1
-  // A body of the cluster being solved, in the grain-space elimination of its leaves (see
-  // solve_cluster()): its effective mass A, then A⁻¹; the force f its leaves put on it,
-  // then its velocity change.
-  struct PeelBody {
-    enum State : int { kMass, kInverse, kVelocity };
-    double a11, a12, a22, fx, fy;
-    State state;
-    void invert();       // A → A⁻¹
-    void to_velocity();  // f → Δv = A⁻¹f, once f is final
-  };
-  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix of its loops
-  // (upper triangle by columns), right-hand side and factor, and its leaves' elimination.
+  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
+  // by columns), right-hand side and factor.
   struct ClusterScratch {
     std::vector<int> order, peel, start, row;
     std::vector<double> value, rhs;
     SparseLdl ldl;
-    std::vector<int> leaf, bodies;      // per leaf row its leaf body; the bodies given a slot
-    std::vector<double> inv_kappa, rho;  // per leaf row 1/κ and ρ
-    std::vector<PeelBody> body;
-    int peeled = 0;  // leaf rows, numbered first
   };
   std::vector<ClusterScratch> cluster_scratch_;
 
