@@ -1,12 +1,16 @@
 #include "dynamics/engine.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include <omp.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
@@ -25,6 +29,11 @@ constexpr int kTileColumns = 8;
 
 // Row flags of the frictionless sweeps: still corrected by Υ or more; carrying P_n > 0.
 constexpr std::uint8_t kHot = 1, kBearing = 2;
+// 1 if an impulse P ≥ +0 is positive, else 0, without a branch.
+inline int bearing(double p) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(p);
+  return int((bits | (0 - bits)) >> 63);
+}
 
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
@@ -441,6 +450,17 @@ void Engine::load_bodies() {
 
 namespace {
 
+// max(0, x), as std::max(0.0, x) gives it (+0 for x ≤ 0 or NaN), without a branch: GCC
+// compiles std::max to a compare and jump here, and whether a contact bears flips about
+// as often as not, so the jump mispredicts (half the time of a sweep at 10⁴ grains).
+inline double positive_part(double x) {
+#ifdef __SSE2__
+  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));  // x > 0 ? x : +0
+#else
+  return std::max(0.0, x);
+#endif
+}
+
 // Exact solution of one contact's local problem given the other impulses: the normal
 // impulse does not change u_t (W_nt = 0 for disks), so normal then tangential is exact.
 // Templates only so that these helpers can take the engine's private Row and Body.
@@ -453,7 +473,7 @@ inline Local local_solve(const Row& r, const Body& a, const Body& b, double mu) 
   const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
   const double un = dvx * r.nx + dvy * r.ny;
   const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-  const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
+  const double pn = positive_part(r.pn + (r.bn - un) * r.inv_w);
   const double limit = mu * pn;
   const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
   return {pn, pt};
@@ -573,6 +593,11 @@ bool Engine::near_flagged(const std::vector<std::uint8_t>& flags, int strip, int
 // largest correction made. The frictionless sweep also counts status changes (P_n > 0 or
 // not) and active rows, and marks the rows still corrected by Υ or more, for the cluster
 // solves.
+//
+// Each task sweeps two strips of the same parity, a row of one then a row of the other.
+// They share no grain, so the result is that of sweeping them one after the other, bit for
+// bit; but a row's update waits for the previous row's (they usually share a grain), and
+// the other strip's row fills that wait.
 template <bool Friction>
 double Engine::sweep(bool forward, double upsilon) {
   const double mu = material_.friction;
@@ -580,9 +605,17 @@ double Engine::sweep(bool forward, double upsilon) {
   std::uint8_t* moved = moved_.data();
   std::uint8_t* touched = touched_.data();
   const int threads = settings_.threads, strips = strips_, tiles = tiles_;
+  const int dir = forward ? 1 : -1;
   double worst = 0;
   int changes = 0, active = 0;
   std::int64_t visits = 0;
+  // Where a strip's sweep stands: its next tile (step), the rows left in the current tile
+  // (q up to end, by dir) and that tile's largest correction and counts so far.
+  struct Cursor {
+    int strip, step = 0, tile = 0, q = 0, end = 0;
+    double worst = 0;
+    int changes = 0, active = 0;
+  };
   for (int half = 0; half < 2; ++half) {
     const int parity = forward ? half : 1 - half;
     const int count = (strips - parity + 1) / 2;  // strips of this parity
@@ -590,74 +623,122 @@ double Engine::sweep(bool forward, double upsilon) {
     const EdgeFlags edges = edge_flags(moved_);
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic, 1) \
     reduction(max : worst) reduction(+ : changes, active, visits)
-    for (int t = 0; t < count; ++t) {
-      const int strip = parity + 2 * t;
-      // The rows of one tile in sweep order; returns the largest correction. Counters and
-      // pointers are locals: the byte stores to the flags may alias anything, and would
-      // otherwise send them through memory on every row.
-      auto sweep_rows = [&](int first, int last) {
-        const int* const work_rows = work_.data();
-        Row* const row_data = rows_.data();
-        Body* const body_data = bodies_.data();
-        std::uint8_t* const row_flags = row_flags_.data();
-        double tile_worst = 0;
-        int tile_changes = 0, tile_active = 0;
-        for (int q = forward ? first : last - 1; forward ? q < last : q >= first; q += forward ? 1 : -1) {
-          const int c = work_rows[q];
-          Row& r = row_data[c];
-          Body& a = body_data[r.i];
-          Body& b = body_data[r.j];
-          const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-          const double un = dvx * r.nx + dvy * r.ny;
-          const double pn = std::max(0.0, r.pn + (r.bn - un) * r.inv_w);
-          const double dpn = pn - r.pn;
-          if constexpr (Friction) {
-            const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-            const double limit = mu * pn;
-            const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
-            const double dpt = pt - r.pt;
-            // Compare before dividing: the division is only needed for a new maximum.
-            const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
-            if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
-            r.pn = pn;
-            r.pt = pt;
-            const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
-            a.vx += a.inv_mass * px;
-            a.vy += a.inv_mass * py;
-            a.spin -= 2 * a.inv_mass * dpt;
-            b.vx -= b.inv_mass * px;
-            b.vy -= b.inv_mass * py;
-            b.spin -= 2 * b.inv_mass * dpt;
-          } else {
-            // μ = 0: P_t stays 0 and the spins never change.
-            const double d = std::fabs(dpn);
-            if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
-            tile_changes += (pn > 0) != (r.pn > 0);
-            tile_active += pn > 0;
-            row_flags[c] = (d >= upsilon * r.inv_w ? kHot : 0) | (pn > 0 ? kBearing : 0);
-            r.pn = pn;
-            const double px = dpn * r.nx, py = dpn * r.ny;
-            a.vx += a.inv_mass * px;
-            a.vy += a.inv_mass * py;
-            b.vx -= b.inv_mass * px;
-            b.vy -= b.inv_mass * py;
-          }
+    for (int t = 0; t < (count + 1) / 2; ++t) {
+      // Pointers are locals, and so are the counters in the loops below: the byte stores to
+      // the flags may alias anything, and would otherwise send them through memory on every row.
+      const int* const work_rows = work_.data();
+      Row* const row_data = rows_.data();
+      Body* const body_data = bodies_.data();
+      std::uint8_t* const row_flags = row_flags_.data();
+      // The local solve of row work_rows[q]; folds its correction and counts into a tile's.
+      auto update = [&](int q, double& tile_worst, int& tile_changes, int& tile_active) {
+        const int c = work_rows[q];
+        Row& r = row_data[c];
+        Body& a = body_data[r.i];
+        Body& b = body_data[r.j];
+        const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
+        const double un = dvx * r.nx + dvy * r.ny;
+        const double pn = positive_part(r.pn + (r.bn - un) * r.inv_w);
+        const double dpn = pn - r.pn;
+        if constexpr (Friction) {
+          const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
+          const double limit = mu * pn;
+          const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
+          const double dpt = pt - r.pt;
+          // Compare before dividing: the division is only needed for a new maximum.
+          const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
+          if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
+          r.pn = pn;
+          r.pt = pt;
+          const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
+          a.vx += a.inv_mass * px;
+          a.vy += a.inv_mass * py;
+          a.spin -= 2 * a.inv_mass * dpt;
+          b.vx -= b.inv_mass * px;
+          b.vy -= b.inv_mass * py;
+          b.spin -= 2 * b.inv_mass * dpt;
+        } else {
+          // μ = 0: P_t stays 0 and the spins never change.
+          const double d = std::fabs(dpn);
+          if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
+          // Whether a row bears flips about as often as not: integer arithmetic on the bits
+          // of P_n ≥ +0 (never −0: max(0, x) gives +0) instead of branches that mispredict.
+          const int bears = bearing(pn), bore = bearing(r.pn);
+          tile_changes += bears ^ bore;
+          tile_active += bears;
+          row_flags[c] = std::uint8_t((d >= upsilon * r.inv_w) * kHot | bears * kBearing);
+          r.pn = pn;
+          const double px = dpn * r.nx, py = dpn * r.ny;
+          a.vx += a.inv_mass * px;
+          a.vy += a.inv_mass * py;
+          b.vx -= b.inv_mass * px;
+          b.vy -= b.inv_mass * py;
         }
-        visits += last - first;
-        changes += tile_changes;
-        active += tile_active;
-        return tile_worst;
       };
-      for (int step = 0; step < tiles; ++step) {
-        const int block = forward ? step : tiles - 1 - step;
-        const int tile = strip * tiles + block;
-        // A tile whose corrections and whose neighbours' (the last time each was swept) all
-        // stayed below Υ has settled; check() confirms it at the end.
-        if (!near_flagged(moved_, strip, block, edges)) continue;
-        const double tile_worst = sweep_rows(start[tile], start[tile + 1]);
-        moved[tile] = tile_worst >= upsilon;
-        touched[tile] = 1;
-        worst = std::max(worst, tile_worst);
+      // Moves the cursor to the next tile with rows to sweep, settling the empty ones on the
+      // way; false at the end of the strip. A tile whose corrections and whose neighbours'
+      // (the last time each was swept) all stayed below Υ has settled; check() confirms it
+      // at the end.
+      auto next_tile = [&](Cursor& k) {
+        while (k.step < tiles) {
+          const int block = forward ? k.step : tiles - 1 - k.step;
+          ++k.step;
+          if (!near_flagged(moved_, k.strip, block, edges)) continue;
+          k.tile = k.strip * tiles + block;
+          touched[k.tile] = 1;
+          const int first = start[k.tile], last = start[k.tile + 1];
+          if (first == last) {
+            moved[k.tile] = 0;
+            continue;
+          }
+          k.q = forward ? first : last - 1;
+          k.end = forward ? last : first - 1;
+          k.worst = 0;
+          k.changes = k.active = 0;
+          visits += last - first;
+          return true;
+        }
+        return false;
+      };
+      auto finish_tile = [&](const Cursor& k) {
+        moved[k.tile] = k.worst >= upsilon;
+        worst = std::max(worst, k.worst);
+        changes += k.changes;
+        active += k.active;
+      };
+      Cursor a{parity + 4 * t}, b{parity + 4 * t + 2};
+      bool more_a = next_tile(a), more_b = b.strip < strips && next_tile(b);
+      while (more_a && more_b) {
+        const int n = std::min(dir * (a.end - a.q), dir * (b.end - b.q));
+        int qa = a.q, qb = b.q;
+        double worst_a = a.worst, worst_b = b.worst;
+        int changes_a = a.changes, changes_b = b.changes, active_a = a.active, active_b = b.active;
+        for (int k = 0; k < n; ++k, qa += dir, qb += dir) {
+          update(qa, worst_a, changes_a, active_a);
+          update(qb, worst_b, changes_b, active_b);
+        }
+        a = {a.strip, a.step, a.tile, qa, a.end, worst_a, changes_a, active_a};
+        b = {b.strip, b.step, b.tile, qb, b.end, worst_b, changes_b, active_b};
+        if (a.q == a.end) {
+          finish_tile(a);
+          more_a = next_tile(a);
+        }
+        if (b.q == b.end) {
+          finish_tile(b);
+          more_b = next_tile(b);
+        }
+      }
+      // The strip left alone.
+      for (Cursor* k : {&a, &b}) {
+        for (bool more = k == &a ? more_a : more_b; more; more = next_tile(*k)) {
+          double tile_worst = k->worst;
+          int tile_changes = k->changes, tile_active = k->active;
+          for (int q = k->q; q != k->end; q += dir) update(q, tile_worst, tile_changes, tile_active);
+          k->worst = tile_worst;
+          k->changes = tile_changes;
+          k->active = tile_active;
+          finish_tile(*k);
+        }
       }
     }
   }
