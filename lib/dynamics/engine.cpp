@@ -51,7 +51,8 @@ void refill(std::vector<T>& v, std::size_t n) {
 
 // std::round(x) for |x| < 2³¹ without a library call. It differs only for x within an ulp
 // of ±½, i.e. for separations of half the box, where no candidate pair ever is.
-inline int round_to_int(double x) { return int(x + (x < 0 ? -0.5 : 0.5)); }
+// copysign, not a comparison: the sign of a separation is random, and a jump on it mispredicts.
+inline int round_to_int(double x) { return int(x + std::copysign(0.5, x)); }
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw UsageError(what);
@@ -196,24 +197,30 @@ double Engine::select_candidates(std::size_t first, std::size_t last, std::vecto
   const double to_x = 1 / lx, to_y = 1 / ly;
   const double alert = alert_;
   double overlap = 0;
-  for (std::size_t p = first; p < last; ++p) {
-    const auto [i, j] = pairs_[p];
-    double dx = position[i].x() - position[j].x(), dy = position[i].y() - position[j].y();
-    int k = 0;
-    if (box_.periodic_y) {
-      k = round_to_int(dy * to_y);
-      dy -= k * ly;
-      dx -= k * offset;
+  // Whether a listed pair is a candidate is as good as random (about half are): each pair
+  // is written to a small buffer and kept by advancing its end or not, without a jump.
+  // Non-candidates have gap ≥ alert > 0, so taking max(overlap, −gap) over all is the same.
+  constexpr std::size_t kChunk = 256;
+  Candidate found[kChunk];
+  for (std::size_t chunk = first; chunk < last; chunk += kChunk) {
+    const std::size_t end = std::min(last, chunk + kChunk);
+    std::size_t kept = 0;
+    for (std::size_t p = chunk; p < end; ++p) {
+      const auto [i, j] = pairs_[p];
+      double dx = position[i].x() - position[j].x(), dy = position[i].y() - position[j].y();
+      int k = 0;
+      if (box_.periodic_y) {
+        k = round_to_int(dy * to_y);
+        dy -= k * ly;
+        dx -= k * offset;
+      }
+      dx -= lx * round_to_int(dx * to_x);
+      const double gap = std::sqrt(dx * dx + dy * dy) - radius[i] - radius[j];
+      overlap = std::max(overlap, -gap);
+      found[kept] = Candidate(i, j, k, dx, dy);
+      kept += gap < alert;
     }
-    dx -= lx * round_to_int(dx * to_x);
-    // Most listed pairs are well beyond the alert distance: compare squares first, with a
-    // margin far above round-off, and take the square root only for the others.
-    const double d2 = dx * dx + dy * dy, reach = radius[i] + radius[j] + alert;
-    if (d2 > reach * reach * (1 + 1e-9)) continue;
-    const double gap = std::sqrt(d2) - radius[i] - radius[j];
-    if (gap >= alert) continue;
-    overlap = std::max(overlap, -gap);
-    out.emplace_back(i, j, k, dx, dy);
+    out.insert(out.end(), found, found + kept);
   }
   return overlap;
 }

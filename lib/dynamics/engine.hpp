@@ -167,6 +167,7 @@ class Engine {
     int i;                 // grain i < j
     std::uint32_t packed;  // j | (k + 1) << 30
     double dx, dy;         // r_i − r_j (minimum image)
+    Candidate() = default;
     Candidate(int i_, int j_, int image_, double dx_, double dy_)
         : i(i_), packed(std::uint32_t(j_) | std::uint32_t(image_ + 1) << 30), dx(dx_), dy(dy_) {}
     int j() const { return int(packed & 0x3fffffffu); }
