@@ -392,6 +392,26 @@ TEST(Solver, ClusterSolvesCutSweepsNotAccuracy) {
   EXPECT_LT(worst, 20 * a.dt() * 100 * upsilon);  // a growing gap of up to 100 Υ in velocity
 }
 
+// A frictionless run started from a frictional state (gf-shear --frame K --friction 0)
+// must drop the stored tangential forces: the frictionless sweep never touches them, so a
+// kept one would be applied every step and never converge.
+TEST(Solver, FrictionlessRestartFromFrictionalStateDropsTangentialForces) {
+  const Engine frictional = warm_shear(Material{0.5, 0.0, 0.4}, 0.8, {});
+  const ContactMemory memory = frictional.memory();
+  ASSERT_GT(std::count_if(memory.tangential_force.begin(), memory.tangential_force.end(),
+                          [](double f) { return f != 0; }),
+            10);
+  Engine frictionless(frictional.state(), frictional.box(), frictional.rate(), Material{0.5, 0.0, 0.0}, {},
+                      frictional.dt());
+  frictionless.restore(frictional.step_count(), memory);
+  for (int k = 0; k < 5; ++k) {
+    const StepReport& r = frictionless.step();
+    ASSERT_TRUE(r.converged) << "step " << k << ": " << r.iterations << " sweeps";
+    EXPECT_LT(r.iterations, 1000);
+    for (double f : frictionless.contacts().tangential_force) ASSERT_EQ(f, 0.0);
+  }
+}
+
 // The pair list only saves work: rebuilt every step (a vanishing skin) or only when needed,
 // the candidates, hence the trajectories, are the same to the last bit.
 TEST(PairList, SkinDoesNotChangeTrajectory) {
