@@ -423,8 +423,10 @@ void Engine::build_row(std::size_t c, std::size_t& p) {
   if (p < prev_key_.size() && prev_key_[p] == key) {
     // Warm start from the recorded forces, so that a run restarted from a stored
     // frame (forces, not impulses, are on file) starts from the very same numbers.
+    // Without friction P_t stays 0: a frictional state's tangential forces are dropped
+    // (the frictionless sweep never changes P_t, and would apply a kept one every step).
     r.pn = prev_fn_[p] * dt_;
-    r.pt = prev_ft_[p] * dt_;
+    r.pt = material_.friction > 0 ? prev_ft_[p] * dt_ : 0.0;
     row_age_[c] = prev_age_[p];
   }
 }
@@ -519,11 +521,17 @@ void gather(std::ptrdiff_t count, int threads, std::vector<std::size_t>& chunk_s
   }
   for (std::ptrdiff_t h = 0; h < chunks; ++h) chunk_start[h + 1] += chunk_start[h];
   resize(chunk_start[chunks]);
+  // The items kept are listed first, by advancing the list's end or not: a jump on keep(q),
+  // which is as good as random (which rows bear, say), would mispredict.
 #pragma omp parallel for num_threads(threads) if (parallel) schedule(static)
   for (std::ptrdiff_t h = 0; h < chunks; ++h) {
-    std::size_t k = chunk_start[h];
-    for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q)
-      if (keep(q)) place(q, k++);
+    std::ptrdiff_t kept[chunk];
+    std::ptrdiff_t n = 0;
+    for (std::ptrdiff_t q = h * chunk; q < std::min(count, (h + 1) * chunk); ++q) {
+      kept[n] = q;
+      n += keep(q);
+    }
+    for (std::ptrdiff_t t = 0; t < n; ++t) place(kept[t], chunk_start[h] + std::size_t(t));
   }
 }
 
