@@ -790,20 +790,31 @@ double Engine::check(bool everywhere) {
       continue;
     }
     double tile_worst = 0;
+    bool tile_moved = false;
     for (int c = tile_rows_[tile]; c < tile_rows_[tile + 1]; ++c) {
-      if (!everywhere && in_work_[c]) continue;
+      const bool in = in_work_[c];
+      if (!everywhere && in) continue;
       const Row& r = rows_[c];
-      const double corr = correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], mu));
+      const Body &a = bodies_[r.i], &b = bodies_[r.j];
+      // Without friction P_t = 0 and stays so: only the normal correction counts (the same
+      // number as the general form gives, without its clamp and jumps).
+      const double corr =
+          mu > 0 ? correction(r, local_solve(r, a, b, mu))
+                 : std::fabs(positive_part(r.pn + (r.bn - ((a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny)) * r.inv_w) -
+                             r.pn) /
+                       r.inv_w;
       tile_worst = std::max(tile_worst, corr);
       ++visited;
-      const bool joins = corr > 0 && !in_work_[c];
+      // Bitwise, not short-circuit: corr > 0 is as good as random, joining is rare.
+      const bool joins = (corr > 0) & !in;
       if (joins) {
         in_work_[c] = 1;
         row_flags_[c] = kHot;  // P_n = 0 outside the working set
         joined = true;
       }
-      if (joins || corr >= upsilon) moved[tile] = 1;
+      tile_moved |= joins | (corr >= upsilon);
     }
+    if (tile_moved) moved[tile] = 1;
     if (everywhere) tile_residual_[tile] = tile_worst;
     worst = std::max(worst, tile_worst);
   }
