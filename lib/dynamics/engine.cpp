@@ -35,6 +35,23 @@ inline int bearing(double p) {
   return int((bits | (0 - bits)) >> 63);
 }
 
+// max(0, x), as std::max(0.0, x) gives it (+0 for x ≤ 0 or NaN), without a branch: GCC
+// compiles std::max to a compare and jump here, and whether a contact bears flips about
+// as often as not, so the jump mispredicts (half the time of a sweep at 10⁴ grains).
+inline double positive_part(double x) {
+#ifdef __SSE2__
+  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));  // x > 0 ? x : +0
+#else
+  return std::max(0.0, x);
+#endif
+}
+
+// cond ? a : b, without a jump (GCC compiles the conditional to one).
+inline double pick(bool cond, double a, double b) {
+  const std::uint64_t mask = 0 - std::uint64_t(cond);
+  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) | (std::bit_cast<std::uint64_t>(b) & ~mask));
+}
+
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
 template <class T>
@@ -397,11 +414,10 @@ void Engine::build_row(std::size_t c, std::size_t& p) {
   const double dvy = state_.velocity[i].y() - state_.velocity[j].y();
   const double un = dvx * nx + dvy * ny;
   const double ut = -dvx * ny + dvy * nx - (ri * state_.angular_velocity[i] + rj * state_.angular_velocity[j]);
-  double bn;
-  if (gap <= 0 || gap + dt_ * un <= 0)
-    bn = un < 0 ? -e * un : 0.0;
-  else
-    bn = -gap / dt_;
+  // Touching or predicted to touch, or not, is as good as random: both bounds are computed
+  // and one is picked without a jump. e·max(0, −u_n) is −e·u_n for u_n < 0, else +0.
+  const bool touching = (gap <= 0) | (gap + dt_ * un <= 0);
+  const double bn = pick(touching, e * positive_part(-un), -gap / dt_);
   const double wi = state_.fixed[i] ? 0.0 : 1.0 / state_.mass[i];
   const double wj = state_.fixed[j] ? 0.0 : 1.0 / state_.mass[j];
 
@@ -459,15 +475,12 @@ void Engine::load_bodies() {
 
 namespace {
 
-// max(0, x), as std::max(0.0, x) gives it (+0 for x ≤ 0 or NaN), without a branch: GCC
-// compiles std::max to a compare and jump here, and whether a contact bears flips about
-// as often as not, so the jump mispredicts (half the time of a sweep at 10⁴ grains).
-inline double positive_part(double x) {
-#ifdef __SSE2__
-  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));  // x > 0 ? x : +0
-#else
-  return std::max(0.0, x);
-#endif
+// Normal correction a local solve would make without friction (P_t = 0 throughout): the
+// number correction(r, local_solve(r, a, b, 0)) gives, without its clamp and jumps.
+template <class Row, class Body>
+inline double normal_correction(const Row& r, const Body& a, const Body& b) {
+  const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
+  return std::fabs(positive_part(r.pn + (r.bn - un) * r.inv_w) - r.pn) / r.inv_w;
 }
 
 // Exact solution of one contact's local problem given the other impulses: the normal
@@ -796,13 +809,7 @@ double Engine::check(bool everywhere) {
       if (!everywhere && in) continue;
       const Row& r = rows_[c];
       const Body &a = bodies_[r.i], &b = bodies_[r.j];
-      // Without friction P_t = 0 and stays so: only the normal correction counts (the same
-      // number as the general form gives, without its clamp and jumps).
-      const double corr =
-          mu > 0 ? correction(r, local_solve(r, a, b, mu))
-                 : std::fabs(positive_part(r.pn + (r.bn - ((a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny)) * r.inv_w) -
-                             r.pn) /
-                       r.inv_w;
+      const double corr = mu > 0 ? correction(r, local_solve(r, a, b, mu)) : normal_correction(r, a, b);
       tile_worst = std::max(tile_worst, corr);
       ++visited;
       // Bitwise, not short-circuit: corr > 0 is as good as random, joining is rare.
@@ -1005,10 +1012,10 @@ bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
       Row& r = rows_[c];
       apply_normal_impulse(r, pn - r.pn);
       r.pn = pn;
-      row_flags_[c] = (row_flags_[c] & kHot) | (pn > 0 ? kBearing : 0);
+      row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
     };
     for (int u = 0; u < m; ++u) {
-      const double pn = rows_[w.order[u]].pn, solved = std::max(0.0, pn + w.rhs[u]);
+      const double pn = rows_[w.order[u]].pn, solved = positive_part(pn + w.rhs[u]);
       w.rhs[u] = pn;  // kept for an undo
       set_normal_impulse(w.order[u], solved);
     }
@@ -1038,7 +1045,7 @@ double Engine::cluster_residual(const ClusterScratch& w, int threads) const {
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(max : worst)
   for (std::ptrdiff_t u = 0; u < m; ++u) {
     const Row& r = rows_[w.order[u]];
-    worst = std::max(worst, correction(r, local_solve(r, bodies_[r.i], bodies_[r.j], 0.0)));
+    worst = std::max(worst, normal_correction(r, bodies_[r.i], bodies_[r.j]));
   }
   return worst;
 }
