@@ -567,8 +567,9 @@ void Engine::select_working_set() {
     const Row& r = rows_[c];
     const Body &a = bodies_[r.i], &b = bodies_[r.j];
     const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
-    in_work_[c] = r.pn > 0 || un - r.bn < vrel_;
-    row_flags_[c] = kHot | (r.pn > 0 ? kBearing : 0);
+    // Bitwise, not short-circuit: both tests are near random, and a jump would mispredict.
+    in_work_[c] = (r.pn > 0) | (un - r.bn < vrel_);
+    row_flags_[c] = std::uint8_t(kHot | (r.pn > 0) * kBearing);
   }
   group_working_set();
 }
@@ -577,15 +578,23 @@ void Engine::select_working_set() {
 // (rows are stored tile by tile, so that is ascending row order).
 void Engine::group_working_set() {
   const int tiles = strips_ * tiles_;
-  work_.resize(std::count(in_work_.begin(), in_work_.end(), std::uint8_t(1)));
+  const std::size_t size = std::count(in_work_.begin(), in_work_.end(), std::uint8_t(1));
+  // Every row is written and kept by advancing the end or not (membership is near random):
+  // one slot more for the last row written.
+  work_.resize(size + 1);
   work_start_.resize(tiles + 1);
+  int* const work = work_.data();
+  const std::uint8_t* const in_work = in_work_.data();
   int q = 0;
   for (int t = 0; t < tiles; ++t) {
     work_start_[t] = q;
-    for (int c = tile_rows_[t]; c < tile_rows_[t + 1]; ++c)
-      if (in_work_[c]) work_[q++] = c;
+    for (int c = tile_rows_[t]; c < tile_rows_[t + 1]; ++c) {
+      work[q] = c;
+      q += in_work[c];
+    }
   }
   work_start_[tiles] = q;
+  work_.resize(size);
 }
 
 // Which of the two strips next to each other across the periodic y boundary, the first and
