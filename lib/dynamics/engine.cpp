@@ -967,7 +967,6 @@ void Engine::solve_clusters() {
 // large to pay off (nothing changed) or its result was undone (impulses restored exactly,
 // velocities up to round-off).
 bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
-  auto mobile = [&](int b) { return bodies_[b].inv_mass > 0; };
   const int* members = cluster_rows_.data() + cluster_start_[k];
   const int m = cluster_start_[k + 1] - cluster_start_[k];
   // Numbering (w.order[u] = row of unknown u): first peel leaves, bodies left with a single
@@ -978,18 +977,20 @@ bool Engine::solve_cluster(int k, ClusterScratch& w, int threads) {
     unknown_[c] = int(w.order.size());
     w.order.push_back(c);
   };
+  // (Bodies from the compact row_bodies_, −1 for a fixed one.)
   w.peel.clear();
   for (int q = 0; q < m; ++q)
-    for (int b : {rows_[members[q]].i, rows_[members[q]].j})
-      if (mobile(b) && degree_[b] == 1) w.peel.push_back(b);
+    for (int b : row_bodies_[members[q]])
+      if (b >= 0 && degree_[b] == 1) w.peel.push_back(b);
   for (std::size_t q = 0; q < w.peel.size(); ++q) {
     const int b = w.peel[q];
     for (int p = body_start_[b]; p < body_start_[b + 1]; ++p) {
       const int c = body_rows_[p];
       if (unknown_[c] >= 0) continue;
       number(c);
-      const int other = rows_[c].i == b ? rows_[c].j : rows_[c].i;
-      if (mobile(other) && --degree_[other] == 1) w.peel.push_back(other);
+      const auto [i, j] = row_bodies_[c];
+      const int other = i == b ? j : i;
+      if (other >= 0 && --degree_[other] == 1) w.peel.push_back(other);
     }
   }
   const int peeled = int(w.order.size());
