@@ -1075,7 +1075,8 @@ void Engine::assemble_cluster(ClusterScratch& w, int threads) const {
   const int m = int(w.order.size());
   w.start.assign(m + 1, 0);
   w.rhs.resize(m);
-  // Calls emit(row, value) for each entry of column u, top to bottom as found; sets rhs[u].
+  // Calls emit(row, value) for each entry of column u and below (the upper triangle holds
+  // those with row ≤ u), top to bottom as found; sets rhs[u].
   auto column = [&](int u, auto&& emit) {
     const Row& a = rows_[w.order[u]];
     const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
@@ -1086,27 +1087,40 @@ void Engine::assemble_cluster(ClusterScratch& w, int threads) const {
       const double sa = body == a.i ? 1.0 : -1.0;
       for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
         const int other = unknown_[body_rows_[p]];
-        if (other > u) continue;
         const Row& b = rows_[body_rows_[p]];
         const double sb = body == b.i ? 1.0 : -1.0;
-        emit(other, sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);
+        emit(other, sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);  // kept for other ≤ u
       }
     }
   };
   if (threads <= 1) {
-    w.row.clear();
-    w.value.clear();
+    // Every entry found is written, and kept by advancing the end or not: whether a
+    // neighbour's unknown comes before u is as good as random, and a jump would mispredict.
+    std::size_t bound = 0;
+    for (int u = 0; u < m; ++u)
+      for (int body : row_bodies_[w.order[u]])
+        if (body >= 0) bound += std::size_t(body_start_[body + 1] - body_start_[body]);
+    fit_capacity(w.row, bound);
+    fit_capacity(w.value, bound);
+    w.row.resize(bound);
+    w.value.resize(bound);
+    int* const row = w.row.data();
+    double* const value = w.value.data();
+    std::size_t q = 0;
     for (int u = 0; u < m; ++u) {
-      column(u, [&](int other, double value) {
-        w.row.push_back(other);
-        w.value.push_back(value);
+      column(u, [&](int other, double v) {
+        row[q] = other;
+        value[q] = v;
+        q += other <= u;
       });
-      w.start[u + 1] = int(w.row.size());
+      w.start[u + 1] = int(q);
     }
+    w.row.resize(q);
+    w.value.resize(q);
     return;
   }
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (int u = 0; u < m; ++u) column(u, [&](int, double) { ++w.start[u + 1]; });
+  for (int u = 0; u < m; ++u) column(u, [&](int other, double) { w.start[u + 1] += other <= u; });
   for (int u = 0; u < m; ++u) w.start[u + 1] += w.start[u];
   fit_capacity(w.row, w.start[m]);
   fit_capacity(w.value, w.start[m]);
@@ -1116,6 +1130,7 @@ void Engine::assemble_cluster(ClusterScratch& w, int threads) const {
   for (int u = 0; u < m; ++u) {
     int q = w.start[u];
     column(u, [&](int other, double value) {
+      if (other > u) return;
       w.row[q] = other;
       w.value[q++] = value;
     });
