@@ -1,21 +1,18 @@
 #include "dynamics/engine.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include <omp.h>
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
 #include "core/error.hpp"
+#include "dynamics/branch_free.hpp"
 #include "dynamics/capacity.hpp"
 #include "neighbours/cell_list.hpp"
 
@@ -29,28 +26,6 @@ constexpr int kTileColumns = 8;
 
 // Row flags of the frictionless sweeps: still corrected by Υ or more; carrying P_n > 0.
 constexpr std::uint8_t kHot = 1, kBearing = 2;
-// 1 if an impulse P ≥ +0 is positive, else 0, without a branch.
-inline int bearing(double p) {
-  const std::uint64_t bits = std::bit_cast<std::uint64_t>(p);
-  return int((bits | (0 - bits)) >> 63);
-}
-
-// max(0, x), as std::max(0.0, x) gives it (+0 for x ≤ 0 or NaN), without a branch: GCC
-// compiles std::max to a compare and jump here, and whether a contact bears flips about
-// as often as not, so the jump mispredicts (half the time of a sweep at 10⁴ grains).
-inline double positive_part(double x) {
-#ifdef __SSE2__
-  return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(x), _mm_setzero_pd()));  // x > 0 ? x : +0
-#else
-  return std::max(0.0, x);
-#endif
-}
-
-// cond ? a : b, without a jump (GCC compiles the conditional to one).
-inline double pick(bool cond, double a, double b) {
-  const std::uint64_t mask = 0 - std::uint64_t(cond);
-  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) | (std::bit_cast<std::uint64_t>(b) & ~mask));
-}
 
 std::uint64_t pair_key(int i, int j) { return (std::uint64_t(std::uint32_t(i)) << 32) | std::uint32_t(j); }
 
@@ -65,11 +40,6 @@ void refill(std::vector<T>& v, std::size_t n) {
   fit_capacity(v, n);
   v.resize(n);
 }
-
-// std::round(x) for |x| < 2³¹ without a library call. It differs only for x within an ulp
-// of ±½, i.e. for separations of half the box, where no candidate pair ever is.
-// copysign, not a comparison: the sign of a separation is random, and a jump on it mispredicts.
-inline int round_to_int(double x) { return int(x + std::copysign(0.5, x)); }
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw UsageError(what);
