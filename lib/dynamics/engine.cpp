@@ -186,7 +186,7 @@ double Engine::select_candidates(std::size_t first, std::size_t last, std::vecto
   double overlap = 0;
   // Whether a listed pair is a candidate is as good as random (about half are): each pair
   // is written to a small buffer and kept by advancing its end or not, without a jump.
-  // Non-candidates have gap ≥ alert > 0, so taking max(overlap, −gap) over all is the same.
+  // Non-candidates have gap ≥ alert ≥ 0, so taking max(overlap, −gap) over all is the same.
   constexpr std::size_t kChunk = 256;
   Candidate found[kChunk];
   for (std::size_t chunk = first; chunk < last; chunk += kChunk) {
