@@ -445,12 +445,18 @@ void Engine::load_bodies() {
 
 namespace {
 
+// New normal impulse of a local solve: P_n ← max(0, P_n + (b_n − u_n)/W_nn).
+template <class Row, class Body>
+inline double normal_impulse(const Row& r, const Body& a, const Body& b) {
+  const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
+  return positive_part(r.pn + (r.bn - un) * r.inv_w);
+}
+
 // Normal correction a local solve would make without friction (P_t = 0 throughout): the
 // number correction(r, local_solve(r, a, b, 0)) gives, without its clamp and jumps.
 template <class Row, class Body>
 inline double normal_correction(const Row& r, const Body& a, const Body& b) {
-  const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
-  return std::fabs(positive_part(r.pn + (r.bn - un) * r.inv_w) - r.pn) / r.inv_w;
+  return std::fabs(normal_impulse(r, a, b) - r.pn) / r.inv_w;
 }
 
 // Exact solution of one contact's local problem given the other impulses: the normal
@@ -463,9 +469,8 @@ struct Local {
 template <class Row, class Body>
 inline Local local_solve(const Row& r, const Body& a, const Body& b, double mu) {
   const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-  const double un = dvx * r.nx + dvy * r.ny;
   const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-  const double pn = positive_part(r.pn + (r.bn - un) * r.inv_w);
+  const double pn = normal_impulse(r, a, b);
   const double limit = mu * pn;
   const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
   return {pn, pt};
@@ -724,8 +729,14 @@ double Engine::sweep(bool forward, double upsilon) {
           update(qa, worst_a, changes_a, active_a);
           update(qb, worst_b, changes_b, active_b);
         }
-        a = {a.strip, a.step, a.tile, qa, a.end, worst_a, changes_a, active_a};
-        b = {b.strip, b.step, b.tile, qb, b.end, worst_b, changes_b, active_b};
+        a.q = qa;
+        a.worst = worst_a;
+        a.changes = changes_a;
+        a.active = active_a;
+        b.q = qb;
+        b.worst = worst_b;
+        b.changes = changes_b;
+        b.active = active_b;
         if (a.q == a.end) {
           finish_tile(a);
           more_a = next_tile(a);
