@@ -355,6 +355,7 @@ void Engine::build_rows() {
   tile_rows_.assign(bucket_.begin(), bucket_.end());
   for (std::size_t c = 0; c < count; ++c) row_of_[c] = bucket_[row_of_[c]]++;
   refill(rows_, count);
+  refill(tangent_, material_.friction > 0 ? count : 0);
   refill(row_bodies_, count);
   refill(row_age_, count);
   // Chunks of candidates, each with its own cursor into the previous step's memory (same
@@ -399,22 +400,22 @@ void Engine::build_row(std::size_t c, std::size_t& p) {
   r.ny = ny;
   // The solver works on raw velocity differences: move the image shift into the bounds.
   r.bn = bn + shift * nx;
-  r.bt = et * ut - shift * ny;
   r.inv_w = 1.0 / (wi + wj);
   r.pn = 0;
-  r.pt = 0;
+  double pt = 0;
   row_age_[c] = 0;
   const std::uint64_t key = pair_key(i, j);
   while (p < prev_key_.size() && prev_key_[p] < key) ++p;
   if (p < prev_key_.size() && prev_key_[p] == key) {
     // Warm start from the recorded forces, so that a run restarted from a stored
     // frame (forces, not impulses, are on file) starts from the very same numbers.
-    // Without friction P_t stays 0: a frictional state's tangential forces are dropped
+    // Without friction no P_t is kept: a frictional state's tangential forces are dropped
     // (the frictionless sweep never changes P_t, and would apply a kept one every step).
     r.pn = prev_fn_[p] * dt_;
-    r.pt = material_.friction > 0 ? prev_ft_[p] * dt_ : 0.0;
+    pt = prev_ft_[p] * dt_;
     row_age_[c] = prev_age_[p];
   }
+  if (material_.friction > 0) tangent_[row_of_[c]] = {et * ut - shift * ny, pt};
 }
 
 // Free velocities, plus the warm-start impulses.
@@ -429,17 +430,20 @@ void Engine::load_bodies() {
     b.spin = state_.radius[i] * state_.angular_velocity[i];
     b.inv_mass = mobile ? 1.0 / state_.mass[i] : 0.0;
   }
-  for (const Row& r : rows_) {
-    if (r.pn == 0 && r.pt == 0) continue;
+  const bool friction = material_.friction > 0;
+  for (std::size_t c = 0; c < rows_.size(); ++c) {
+    const Row& r = rows_[c];
+    const double pt = friction ? tangent_[c].pt : 0.0;
+    if (r.pn == 0 && pt == 0) continue;
     Body& a = bodies_[r.i];
     Body& b = bodies_[r.j];
-    const double px = r.pn * r.nx - r.pt * r.ny, py = r.pn * r.ny + r.pt * r.nx;
+    const double px = r.pn * r.nx - pt * r.ny, py = r.pn * r.ny + pt * r.nx;
     a.vx += a.inv_mass * px;
     a.vy += a.inv_mass * py;
-    a.spin -= 2 * a.inv_mass * r.pt;
+    a.spin -= 2 * a.inv_mass * pt;
     b.vx -= b.inv_mass * px;
     b.vy -= b.inv_mass * py;
-    b.spin -= 2 * b.inv_mass * r.pt;
+    b.spin -= 2 * b.inv_mass * pt;
   }
 }
 
@@ -466,20 +470,20 @@ struct Local {
   double pn, pt;
 };
 
-template <class Row, class Body>
-inline Local local_solve(const Row& r, const Body& a, const Body& b, double mu) {
+template <class Row, class Tangent, class Body>
+inline Local local_solve(const Row& r, const Tangent& t, const Body& a, const Body& b, double mu) {
   const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
   const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
   const double pn = normal_impulse(r, a, b);
   const double limit = mu * pn;
-  const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
+  const double pt = std::clamp(t.pt + (t.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
   return {pn, pt};
 }
 
 // Velocity correction made by a local solve: |ΔP_n|·W_nn and |ΔP_t|·W_tt.
-template <class Row>
-inline double correction(const Row& r, const Local& l) {
-  return std::max(std::fabs(l.pn - r.pn), 3 * std::fabs(l.pt - r.pt)) / r.inv_w;
+template <class Row, class Tangent>
+inline double correction(const Row& r, const Tangent& t, const Local& l) {
+  return std::max(std::fabs(l.pn - r.pn), 3 * std::fabs(l.pt - t.pt)) / r.inv_w;
 }
 
 // See solve_cluster(). 10 also stops the blow-up but undoes most solves in a pile coming to
@@ -640,6 +644,7 @@ double Engine::sweep(bool forward, double upsilon) {
       // the flags may alias anything, and would otherwise send them through memory on every row.
       const int* const work_rows = work_.data();
       Row* const row_data = rows_.data();
+      Tangent* const tangent_data = tangent_.data();
       Body* const body_data = bodies_.data();
       std::uint8_t* const row_flags = row_flags_.data();
       // The local solve of row work_rows[q]; folds its correction and counts into a tile's.
@@ -655,13 +660,14 @@ double Engine::sweep(bool forward, double upsilon) {
         if constexpr (Friction) {
           const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
           const double limit = mu * pn;
-          const double pt = std::clamp(r.pt + (r.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
-          const double dpt = pt - r.pt;
+          Tangent& g = tangent_data[c];
+          const double pt = std::clamp(g.pt + (g.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
+          const double dpt = pt - g.pt;
           // Compare before dividing: the division is only needed for a new maximum.
           const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
           if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
           r.pn = pn;
-          r.pt = pt;
+          g.pt = pt;
           const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
           a.vx += a.inv_mass * px;
           a.vy += a.inv_mass * py;
@@ -799,7 +805,8 @@ double Engine::check(bool everywhere) {
       if (!everywhere && in) continue;
       const Row& r = rows_[c];
       const Body &a = bodies_[r.i], &b = bodies_[r.j];
-      const double corr = mu > 0 ? correction(r, local_solve(r, a, b, mu)) : normal_correction(r, a, b);
+      const double corr =
+          mu > 0 ? correction(r, tangent_[c], local_solve(r, tangent_[c], a, b, mu)) : normal_correction(r, a, b);
       tile_worst = std::max(tile_worst, corr);
       ++visited;
       // Bitwise, not short-circuit: corr > 0 is as good as random, joining is rare.
@@ -1223,7 +1230,7 @@ void Engine::record_contacts() {
     const Vec2 vj = fluctuating_velocity(state_, box_, rate_, j);
     const double shift = k.image() * rate_ * box_.ly;
     const double un = (state_.velocity[i] - state_.velocity[j]).dot(n) - shift * r.nx;
-    const double fn = r.pn / dt_, ft = r.pt / dt_;
+    const double fn = r.pn / dt_, ft = tangent_.empty() ? 0.0 : tangent_[row_of_[c]].pt / dt_;
     records_.pair[q] = {i, j};
     records_.normal_force[q] = fn;
     records_.tangential_force[q] = ft;
@@ -1310,7 +1317,7 @@ std::size_t Engine::allocated_bytes() const {
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
          bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(bodies_) +
-         bytes(rows_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
+         bytes(rows_) + bytes(tangent_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
          bytes(moved_) + bytes(touched_) + bytes(tile_residual_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
          bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
          bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +

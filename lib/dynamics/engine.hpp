@@ -149,18 +149,24 @@ class Engine {
   void restore(std::int64_t step, const ContactMemory& memory);
 
  private:
-  // Hot data of the Gauss–Seidel loop, one cache line per contact; bodies hold
-  // s = R·ω so that u_t needs no radii (ΔS = −2·P_t/m for I = mR²/2). Bodies are in
-  // the internal spatial order, so neighbouring contacts touch nearby memory.
+  // Hot data of the Gauss–Seidel loop: 48 bytes per contact for the normal law, and
+  // with friction 16 more in a separate array, which the frictionless path (the default)
+  // never reads or writes. Bodies hold s = R·ω so that u_t needs no radii
+  // (ΔS = −2·P_t/m for I = mR²/2). Bodies are in the internal spatial order, so
+  // neighbouring contacts touch nearby memory.
   struct alignas(32) Body {
     double vx, vy, spin, inv_mass;
   };
-  struct alignas(64) Row {
+  struct alignas(16) Row {
     int i, j;  // bodies of grains i < j
     double nx, ny;
-    double bn, bt;  // bounds on the raw (v_i − v_j)·n̂ and (v_i − v_j)·t̂ − s_i − s_j
-    double inv_w;   // 1/W_nn = reduced mass; 1/W_tt = inv_w/3
-    double pn, pt;
+    double bn;     // bound on the raw (v_i − v_j)·n̂
+    double inv_w;  // 1/W_nn = reduced mass; 1/W_tt = inv_w/3
+    double pn;
+  };
+  struct Tangent {
+    double bt;  // bound on the raw (v_i − v_j)·t̂ − s_i − s_j
+    double pt;
   };
   // 24 bytes: grain j and the image k share a word (N < 2³⁰ grains, |k| ≤ 1).
   struct Candidate {
@@ -228,6 +234,7 @@ class Engine {
   std::vector<int> row_of_;     // candidate → row (sweep order)
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
+  std::vector<Tangent> tangent_;  // per row with friction; empty without
   std::vector<std::array<int, 2>> row_bodies_;  // per row: its mobile bodies (−1: fixed), compact for the cluster passes
   std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
 
