@@ -93,7 +93,7 @@ Engine::Engine(GrainState state, Box box, double rate, Material material, Solver
     diameter_sum += 2 * state_.radius[i];
   }
   const double mean_diameter = diameter_sum / double(n);
-  alert_min_ = settings_.alert_distance > 0 ? settings_.alert_distance : 0.1 * mean_diameter;
+  alert_min_ = settings_.alert_distance > 0 ? settings_.alert_distance : 0.01 * mean_diameter;
   skin_ = settings_.skin > 0 ? settings_.skin : 0.3 * mean_diameter;
   const double cutoff = 2 * max_radius_ + alert_min_;
   require(box_.lx >= 2 * cutoff && (!box_.periodic_y || box_.ly >= 2 * cutoff),

@@ -15,7 +15,7 @@ void add_contact_options(CommandLine& cli) {
   cli.option("friction", 0, "MU", "Coulomb friction coefficient μ ≥ 0", "0");
   cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
   cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
-  cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.1 mean diameter", "0");
+  cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
   cli.option("threads", 0, "N",
              "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it",
              "1");

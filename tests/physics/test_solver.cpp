@@ -298,6 +298,30 @@ TEST(Solver, FrictionlessStepMatchesPlainGaussSeidel) {
   }
 }
 
+// Pairs farther apart than the alert distance (2·dt·v_rel, twice the largest relative
+// displacement a step allows, above a floor of 0.01σ by default) can neither touch nor
+// bind within the step. Checked against the reference solve over every pair closer than
+// 0.3σ (the default floor was 0.1σ until 2026-11-24), in a dense and a looser flow.
+TEST(Solver, PairsBeyondTheAlertDistanceNeverBind) {
+  for (auto [nu, least_contacts] : {std::pair(0.8, 100), std::pair(0.7, 0)}) {
+    SCOPED_TRACE(nu);
+    SolverSettings settings;
+    settings.tolerance = 1e-14;
+    const Material mat{0.5, 0.0, 0.0};
+    Engine engine = warm_shear(mat, nu, settings, 250);
+    const GrainState before = engine.state();
+    double diameters = 0;
+    for (double r : before.radius) diameters += 2 * r;
+    const double sigma = diameters / double(before.size());
+    ASSERT_LT(engine.alert_distance(), 0.1 * sigma);  // the cut is below the old floor
+    const Eigen::VectorXd q = reference_step(before, engine.box(), engine.rate(), mat, engine.dt(), 0.3 * sigma);
+    const StepReport& r = engine.step();
+    ASSERT_TRUE(r.converged);
+    EXPECT_GT(r.contacts, least_contacts);
+    EXPECT_LT(largest_velocity_difference(engine.state(), q), 1e-9);
+  }
+}
+
 // The recorded contacts are every impulse of the step: each grain's change of momentum (and,
 // with friction, of angular momentum) is the sum of its recorded forces × dt, to round-off.
 // A contact left out of the records, or a record with no impulse behind it, breaks this for
