@@ -95,6 +95,7 @@ Engine::Engine(GrainState state, Box box, double rate, Material material, Solver
   const double mean_diameter = diameter_sum / double(n);
   alert_min_ = settings_.alert_distance > 0 ? settings_.alert_distance : 0.01 * mean_diameter;
   skin_ = settings_.skin > 0 ? settings_.skin : 0.3 * mean_diameter;
+  tile_margin_ = 0.1 * mean_diameter;
   const double cutoff = 2 * max_radius_ + alert_min_;
   require(box_.lx >= 2 * cutoff && (!box_.periodic_y || box_.ly >= 2 * cutoff),
           "box smaller than two contact-search cutoffs (2·R_max + alert distance)");
@@ -276,8 +277,12 @@ void Engine::order_bodies() {
   // periodic boundary, the first and the last, have different parity. Each strip is cut
   // into tiles of whole columns, at least kTileColumns and a contact reach wide (one tile,
   // or at least three, so that a tile's left and right neighbours differ); the last strip
-  // and the last tile of a strip take the rows and columns left over.
-  const double reach = 2 * max_radius_ + alert_;
+  // and the last tile of a strip take the rows and columns left over. The reach here is at
+  // least 2R_max + 0.1σ, whatever the alert: strips of one cell row change the sweep order,
+  // and piles coming to rest on an incline converge far worse with it (5°: 536 steps at the
+  // sweep cap instead of 193, 7°: 4801 instead of 13, when the alert floor went from 0.1σ to
+  // 0.01σ).
+  const double reach = 2 * max_radius_ + std::max(alert_, tile_margin_);
   const double row_height = height > 0 ? height / rows : h;
   const int per_strip = std::max(1, int(std::ceil(reach / row_height)));
   strips_ = rows / per_strip;

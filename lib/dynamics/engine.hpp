@@ -219,6 +219,7 @@ class Engine {
   SolverSettings settings_;
   Vec2 gravity_;
   double alert_min_ = 0, alert_ = 0, max_radius_ = 0, vrel_ = 0;
+  double tile_margin_ = 0;  // smallest gap the tiles are sized for (see order_bodies())
   std::int64_t steps_ = 0, unconverged_ = 0;
 
   // Pair list: grains i < j, sorted, whose gap was below reach_ when it was built;
