@@ -73,7 +73,8 @@ struct SolverSettings {
   int max_iterations = 10000;  // Gauss–Seidel sweeps per step
   // Smallest alert gap (a length); 0 selects 0.01 × the mean diameter. Each step uses
   // max(this, 2·dt·v_rel,max), a safe bound on the relative displacement in one step:
-  // pairs farther apart can neither touch nor bind, so a larger floor only adds rows.
+  // pairs farther apart can neither touch nor bind, so a larger floor adds rows that never
+  // take an impulse (it also enters v_rel's shear term, hence the trajectories' round-off).
   double alert_distance = 0;
   // Extra gap (a length) of the reusable pair list; 0 selects 0.3 × the mean diameter.
   // Only the cost depends on it: a larger skin means longer lists, rebuilt less often.
