@@ -5,18 +5,14 @@ section on a synthetic gf-correlate table with known ξ_|C|, flags and ν_bc."""
 import glob
 import math
 import os
-import sys
 import tempfile
 import unittest
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PIPELINES = os.path.join(HERE, "..")
-sys.path.insert(0, os.path.join(PIPELINES, "analysis"))
-sys.path.insert(0, HERE)
-import correlation_table as ct  # noqa: E402
-import synthetic  # noqa: E402
+from granflow_py import correlation_table as ct
+
+import synthetic  # a sibling module: the tests' own fixtures
 
 R = (np.arange(300) + 0.5) * 0.07
 
