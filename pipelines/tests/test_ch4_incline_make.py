@@ -50,7 +50,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
                               r"TMP/runs/incline_th20_\S+ TMP/runs/incline_th22_\S+ TMP/runs/incline_th5_\S+\n")
         for k in (7, 8, 9, 10):
             self.assertIn(f"TMP/figures/fig4_{k}.png", out)
-        # Fig 4.10 reads the shear sweep, which now has the μ = 0.4 rows.
+        # Fig 4.10 reads the shear sweep, which has the μ = 0.4 rows too.
         self.assertIn("shear_nu0.700_e0.50_mu0.40_r1e-02_s1.h5", out)
 
     def test_branch_settings_and_any_name(self):
