@@ -105,7 +105,7 @@ class CorrelateSchemaTest(unittest.TestCase):
             "--friction", "0", "--seed", "1", "--steps", "10", "--strain-step", "1e-3", "--frame-every", "1")
         run("gf-correlate", "-o", "clusters.h5", "--from-strain", "0", "--blocks", "1", "--bootstrap", "0",
             "--clusters-window", "10", "window.h5")
-        cls.synthetic = synthetic.chapter5_tables(os.path.join(d))
+        cls.synthetic = synthetic.chapter5_tables(d)
         # Each synthetic table and the real output it stands for.
         cls.real = {cls.synthetic["table"]: os.path.join(d, "correlate.h5"),
                     cls.synthetic["clusters"]: os.path.join(d, "clusters.h5")}
@@ -120,7 +120,7 @@ class CorrelateSchemaTest(unittest.TestCase):
             real_sets, real_attrs = schema(real)
             for name, (rank, kind) in fake_sets.items():
                 with self.subTest(table=os.path.basename(fake), dataset=name):
-                    self.assertIn(name, real_sets, "the fixture writes a dataset gf-correlate does not")
+                    self.assertTrue(name in real_sets, "the fixture writes a dataset gf-correlate does not")
                     self.assertEqual(real_sets[name][0], rank, "rank")
                     self.assertEqual(real_sets[name][1], kind, "dtype kind")
             for name, attrs in fake_attrs.items():
@@ -149,9 +149,9 @@ class CorrelateSchemaTest(unittest.TestCase):
                 with self.subTest(read=f"{group}/{name} ({kind})", table=label):
                     datasets, attrs = schema(target)
                     if kind == "dataset":
-                        self.assertIn(f"{group}/{name}", datasets)
+                        self.assertTrue(f"{group}/{name}" in datasets, f"no dataset /{group}/{name}")
                     else:
-                        self.assertIn(name, attrs.get(group, set()))
+                        self.assertTrue(name in attrs.get(group, set()), f"no attribute {name} of /{group}")
 
 
 if __name__ == "__main__":
