@@ -9,6 +9,8 @@ import subprocess
 import tempfile
 import unittest
 
+from granflow_py.hdf5 import text
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 
@@ -121,14 +123,13 @@ class Ch4InclineBranchRunTest(unittest.TestCase):
                 p = f["parameters"].attrs
                 self.assertEqual((p["angle"], p["friction"], p["parent_angle"], p["parent_friction"]), (30, 0.4, 20, 0))
                 parent = p["input"]
-                self.assertEqual(parent.decode() if isinstance(parent, bytes) else parent,
-                                 f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
+                self.assertEqual(text(parent), f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
             with h5py.File(targets[0], "r") as f:
-                rows = [os.path.basename(x.decode() if isinstance(x, bytes) else x) for x in f["runs/input"][...]]
+                rows = [os.path.basename(text(x)) for x in f["runs/input"][...]]
                 k = rows.index(os.path.basename(branch))
                 self.assertAlmostEqual(f["runs/friction"][k], 0.4)
                 start = f["runs/start"][k]
-                self.assertEqual(start.decode() if isinstance(start, bytes) else start, "incline_th20_e0.50_mu0.00_s1.h5")
+                self.assertEqual(text(start), "incline_th20_e0.50_mu0.00_s1.h5")
                 self.assertAlmostEqual(f["runs/start_time"][k], 20, places=6)  # the parent's 20 τ
                 self.assertEqual(f["runs/start_friction"][k], 0)
             with open(targets[1], "rb") as fh:
