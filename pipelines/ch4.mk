@@ -31,7 +31,7 @@ CH4_BAGNOLD_RUNS  := $(foreach r,$(CH4_BAGNOLD_RATES),$(call shear_run,$(CH4_BAG
 CH4_REFERENCE_RUN := $(firstword $(CH4_BAGNOLD_RUNS))
 CH4_TABLES        := $(RUNS)/ch4_sweep.h5 $(RUNS)/ch4_bagnold.h5
 CH4_FIGURES       := $(foreach k,1 2 3 4 5 6,$(FIGURES)/fig4_$(k).png)
-CH4_ANALYSIS      := pipelines/analysis/steady_state.py pipelines/granflow_h5.py pipelines/sizes/$(SIZE).mk
+CH4_ANALYSIS      := pipelines/analysis/steady_state.py $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
 
 ch4-files: $(CH4_FIGURES) $(CH4_TABLES)
 
@@ -50,7 +50,7 @@ $(RUNS)/ch4_sweep.h5: $(CH4_SWEEP_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
 $(RUNS)/ch4_bagnold.h5: $(CH4_BAGNOLD_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
 	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH4_FROM_STRAIN) --detect-transient -o $@ $(CH4_BAGNOLD_RUNS)
 
-$(FIGURES)/fig4_1.png: $(CH4_REFERENCE_RUN) pipelines/plot/ch4_snapshot.py pipelines/granflow_h5.py | $(FIGURES)/
+$(FIGURES)/fig4_1.png: $(CH4_REFERENCE_RUN) pipelines/plot/ch4_snapshot.py $(GRANFLOW_PY) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_snapshot.py $< $@
 $(FIGURES)/fig4_2.png: $(CH4_BAGNOLD_RUNS) pipelines/plot/ch4_bagnold.py $(CH4_ANALYSIS) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_bagnold.py --from-strain $(CH4_FROM_STRAIN) --detect-transient $@ $(CH4_BAGNOLD_RUNS)

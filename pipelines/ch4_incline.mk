@@ -49,7 +49,7 @@ INCLINE_CRITICAL_RUNS := $(sort $(foreach th,$(INCLINE_CRITICAL_ANGLES) $(INCLIN
 INCLINE_REFERENCE_RUN := $(call incline_run,$(INCLINE_REFERENCE_ANGLE),$(INCLINE_E),0.00,$(INCLINE_SEED))
 INCLINE_TABLES    := $(RUNS)/ch4_incline.h5 $(RUNS)/ch4_critical_angle.h5
 INCLINE_FIGURES   := $(foreach k,7 8 9 10,$(FIGURES)/fig4_$(k).png)
-INCLINE_ANALYSIS  := pipelines/analysis/incline_bulk.py pipelines/granflow_h5.py pipelines/sizes/$(SIZE).mk
+INCLINE_ANALYSIS  := pipelines/analysis/incline_bulk.py $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
 INCLINE_BULK_ARGS := --base-skip $(INCLINE_BASE_SKIP) --surface-skip $(INCLINE_SURFACE_SKIP)
 
 ch4-files: $(INCLINE_FIGURES) $(INCLINE_TABLES)
@@ -84,7 +84,7 @@ $(RUNS)/ch4_critical_angle.h5: $(INCLINE_CRITICAL_RUNS) pipelines/analysis/criti
                                | $(RUNS)/
 	$(PYTHON) pipelines/analysis/critical_angle.py --window $(INCLINE_CRITICAL_WINDOW) -o $@ $(INCLINE_CRITICAL_RUNS)
 
-$(FIGURES)/fig4_7.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_snapshot.py pipelines/granflow_h5.py \
+$(FIGURES)/fig4_7.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_snapshot.py $(GRANFLOW_PY) \
                        | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch4_incline_snapshot.py $< $@
 $(FIGURES)/fig4_8.png: $(INCLINE_REFERENCE_RUN) pipelines/plot/ch4_incline_profiles.py $(INCLINE_ANALYSIS) | $(FIGURES)/

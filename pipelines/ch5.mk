@@ -8,7 +8,7 @@
 # branch from the last frame of the shear run of the same name, storing every step.
 # Analyses (gf-correlate, one row per run): $(RUNS)/ch5_correlate.h5 (the sweep, with
 # --reference: ξ/ξ_el, ν_bc) and $(RUNS)/ch5_clusters.h5 (the windows' contact clusters).
-# Figures $(FIGURES)/fig5_<k>.png read them through pipelines/analysis/correlation_table.py.
+# Figures $(FIGURES)/fig5_<k>.png read them through pipelines/granflow_py/correlation_table.py.
 # A change of gf-correlate's code redoes the two analyses and the figures, never a run.
 
 CH5_SWEEP_RUNS     := $(sort $(foreach e,$(CH5_E),$(foreach nu,$(CH5_NU),\
@@ -20,7 +20,7 @@ CH5_WINDOW_RUNS    := $(foreach e,$(CH5_CLUSTER_E),\
                         $(RUNS)/window_nu$(CH5_CLUSTER_NU)_e$(e)_mu0.00_r$(CH5_RATE)_s$(CH5_SEED).h5)
 CH5_TABLES         := $(RUNS)/ch5_correlate.h5 $(RUNS)/ch5_clusters.h5
 CH5_FIGURES        := $(foreach k,1 2 3 4 5 6 7 8 9 10,$(FIGURES)/fig5_$(k).png)
-CH5_ANALYSIS       := pipelines/analysis/correlation_table.py pipelines/granflow_h5.py pipelines/sizes/$(SIZE).mk
+CH5_ANALYSIS       := $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
 # gf-correlate's settings beyond its defaults (none at present; e.g. --blocks 10).
 CH5_CORRELATE_ARGS ?=
 

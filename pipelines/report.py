@@ -4,19 +4,15 @@ summary, our numbers beside the thesis' where it gives them. Each chapter adds i
 import argparse
 import math
 import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(HERE, "analysis"))
 import h5py
 import numpy as np
 
-import correlation_table as ct
-import critical_angle as ca
-import incline_bulk as ib
-import steady_state as ss
-from granflow_h5 import atomic_output
+from analysis import critical_angle as ca
+from analysis import incline_bulk as ib
+from analysis import steady_state as ss
+from granflow_py import correlation_table as ct
+from granflow_py.outputs import atomic_output
 
 
 def packing_rows(paths):

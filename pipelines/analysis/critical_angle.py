@@ -35,26 +35,20 @@ import os
 import shlex
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, HERE)
 import h5py
 import numpy as np
 
-import steady_state as ss
-from granflow_h5 import atomic_output, sha256
+from analysis import steady_state as ss
+from granflow_py import outputs
+from granflow_py.hdf5 import read_attrs, sha256
 
 FLOWING_STATES = ("steady", "accelerating")
-
-
-def _text(v):
-    return v.decode() if isinstance(v, bytes) else v
 
 
 def read_flow(path):
     """(parameters, time in τ, flow rate in √(g⟨R⟩)) of one gf-incline trajectory."""
     with h5py.File(path, "r") as f:
-        prm = {k: _text(v) for k, v in f["/parameters"].attrs.items()}
+        prm = read_attrs(f["/parameters"])
         missing = [k for k in ("angle", "friction", "restitution", "tau", "gravity", "mean_radius") if k not in prm]
         if missing:
             raise ValueError(f"/parameters lacks {', '.join(missing)}")
@@ -138,37 +132,26 @@ MEANINGS = {"angle": "incline angle θ (degrees)", "friction": "μ", "restitutio
 
 
 def write_table(output, rows, result, args, command_line):
-    script = os.path.abspath(__file__)
-    out = atomic_output(output)
-    try:
-        with h5py.File(out.name, "w") as f:
-            f.create_group("parameters").attrs.update({
-                "program": os.path.basename(script), "script_sha256": sha256(script), "command_line": command_line,
-                "window": args["window"], "rest_velocity": args["rest_velocity"], "drift": args["drift"]})
-            runs = f.create_group("runs")
-            text = h5py.string_dtype()
-            for col in ("input", "input_sha256", "state"):
-                runs.create_dataset(col, data=np.array([r[col] for r in rows], dtype=object), dtype=text)
-            for col in MEANINGS:
-                if col != "state":
-                    runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-                runs[col].attrs["meaning"] = MEANINGS[col]
-            g = f.create_group("critical_angle")
-            g.attrs.update(result)
-            g.attrs["meaning"] = ("θ_c in (theta_below, theta_above] degrees, theta_c the midpoint ± half_width; "
-                                  "consistent = 0 if an angle below theta_below flows")
-        out.commit()
-    finally:
-        out.abandon()
+    parameters = {"window": args["window"], "rest_velocity": args["rest_velocity"], "drift": args["drift"]}
+    with outputs.table(output, os.path.abspath(__file__), command_line, parameters,
+                       [(r["input"], r["input_sha256"]) for r in rows]) as f:
+        runs = f["runs"]
+        outputs.text_dataset(runs, "state", [r["state"] for r in rows])
+        for col in MEANINGS:
+            if col != "state":
+                runs.create_dataset(col, data=np.array([r[col] for r in rows]))
+            runs[col].attrs["meaning"] = MEANINGS[col]
+        g = f.create_group("critical_angle")
+        g.attrs.update(result)
+        g.attrs["meaning"] = ("θ_c in (theta_below, theta_above] degrees, theta_c the midpoint ± half_width; "
+                              "consistent = 0 if an angle below theta_below flows")
 
 
 def read_table(path):
+    table = outputs.read_table(path, ("runs",))
     with h5py.File(path, "r") as f:
-        runs = {k: (np.array([_text(v) for v in ds[...]]) if ds.dtype.kind == "O" else ds[...])
-                for k, ds in f["runs"].items()}
-        result = {k: _text(v) for k, v in f["critical_angle"].attrs.items()}
-        params = {k: _text(v) for k, v in f["parameters"].attrs.items()}
-    return {"runs": runs, "critical_angle": result, "parameters": params}
+        table["critical_angle"] = read_attrs(f["critical_angle"])
+    return table
 
 
 def main():

@@ -39,11 +39,11 @@ import os
 import shlex
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import h5py
 import numpy as np
 
-from granflow_h5 import atomic_output, sha256
+from granflow_py import outputs
+from granflow_py.hdf5 import read_attrs, sha256
 
 PROFILE_NAMES = ("y", "packing_fraction", "velocity_x", "shear_rate", "temperature", "pressure", "shear_stress",
                  "stress_xx", "stress_yy", "weight_above", "s_over_p", "inertial", "mT_over_pR2")
@@ -54,16 +54,12 @@ MIN_FLOW = 0.05  # a bulk layer slower than this (in √(g⟨R⟩)) does not flo
 EXPONENTS = np.arange(0.2, 4.0 + 1e-9, 1e-3)
 
 
-def _text(v):
-    return v.decode() if isinstance(v, bytes) else v
-
-
 def read_run(path):
     """{"parameters", "profiles" (arrays), "attrs" (of /profiles)} of one gf-incline trajectory."""
     with h5py.File(path, "r") as f:
         if "profiles" not in f:
             raise ValueError("no /profiles (not a gf-incline trajectory?)")
-        attrs = {k: _text(v) for k, v in f["/parameters"].attrs.items()}
+        attrs = read_attrs(f["/parameters"])
         missing = [k for k in PARAMETERS if k not in attrs]
         if missing:
             raise ValueError(f"/parameters lacks {', '.join(missing)}")
@@ -75,7 +71,7 @@ def read_run(path):
         params["start_friction"] = float(attrs.get("parent_friction", math.nan))
         g = f["/profiles"]
         prof = {k: g[k][...].astype(float) for k in PROFILE_NAMES}
-        pattrs = {k: _text(v) for k, v in g.attrs.items()}
+        pattrs = read_attrs(g)
     for k in ("mean_radius", "mean_mass", "layer_length", "bin", "steady", "steady_from_tau"):
         if k not in pattrs:
             raise ValueError(f"/profiles lacks the attribute {k}")
@@ -227,43 +223,30 @@ def analyse(paths, base_skip, surface_skip):
 
 
 def write_table(output, rows, base_skip, surface_skip, command_line):
-    script = os.path.abspath(__file__)
-    out = atomic_output(output)
-    try:
-        with h5py.File(out.name, "w") as f:
-            f.create_group("parameters").attrs.update({
-                "program": os.path.basename(script), "script_sha256": sha256(script), "command_line": command_line,
-                "base_skip": base_skip, "surface_skip": surface_skip})
-            text = h5py.string_dtype()
-            runs = f.create_group("runs")
-            for col in ("input", "input_sha256", "start"):
-                runs.create_dataset(col, data=np.array([r[col] for r in rows], dtype=object), dtype=text)
-            runs["start"].attrs["meaning"] = "file the run started from (its /parameters input): a pack or, for a " \
-                                             "branch, the parent run"
-            for col in RUN_COLUMNS:
-                runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-                runs[col].attrs["meaning"] = f"the run's parameter or /profiles attribute '{col}'"
-            for col, meaning in (("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
-                                 ("start_friction", "friction of the parent run (NaN: started from a pack)")):
-                runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-                runs[col].attrs["meaning"] = meaning
-            for group, names in GROUPS.items():
-                g = f.require_group(group)
-                for name in names:
-                    g.create_dataset(name, data=np.array([r[name] for r in rows]))
-                    g[name].attrs["meaning"] = MEANINGS[name]
-        out.commit()
-    finally:
-        out.abandon()
+    with outputs.table(output, os.path.abspath(__file__), command_line,
+                       {"base_skip": base_skip, "surface_skip": surface_skip},
+                       [(r["input"], r["input_sha256"]) for r in rows]) as f:
+        runs = f["runs"]
+        outputs.text_dataset(runs, "start", [r["start"] for r in rows])
+        runs["start"].attrs["meaning"] = "file the run started from (its /parameters input): a pack or, for a " \
+                                         "branch, the parent run"
+        for col in RUN_COLUMNS:
+            runs.create_dataset(col, data=np.array([r[col] for r in rows]))
+            runs[col].attrs["meaning"] = f"the run's parameter or /profiles attribute '{col}'"
+        for col, meaning in (("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
+                             ("start_friction", "friction of the parent run (NaN: started from a pack)")):
+            runs.create_dataset(col, data=np.array([r[col] for r in rows]))
+            runs[col].attrs["meaning"] = meaning
+        for group, names in GROUPS.items():
+            g = f.require_group(group)
+            for name in names:
+                g.create_dataset(name, data=np.array([r[name] for r in rows]))
+                g[name].attrs["meaning"] = MEANINGS[name]
 
 
 def read_table(path):
     """{group: {name: array}} plus "parameters"."""
-    with h5py.File(path, "r") as f:
-        table = {g: {k: (np.array([_text(v) for v in ds[...]]) if ds.dtype.kind == "O" else ds[...])
-                     for k, ds in f[g].items()} for g in ("runs", "bulk", "balance", "fit")}
-        table["parameters"] = {k: _text(v) for k, v in f["parameters"].attrs.items()}
-    return table
+    return outputs.read_table(path, ("runs", "bulk", "balance", "fit"))
 
 
 def main():

@@ -52,11 +52,11 @@ import os
 import shlex
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import h5py
 import numpy as np
 
-from granflow_h5 import atomic_output, sha256
+from granflow_py import outputs
+from granflow_py.hdf5 import sha256
 
 ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
                 "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
@@ -113,10 +113,6 @@ QUANTITIES = {
 DIAGNOSTICS = {"solver_iterations_mean": ("mean solver iterations per step", "1"),
                "solver_residual_max": ("largest solver residual", "velocity (code units)"),
                "max_overlap_max": ("largest overlap", "length (code units)")}
-
-
-def _text(v):
-    return v.decode() if isinstance(v, bytes) else v
 
 
 def read_run(path):
@@ -293,58 +289,43 @@ def analyse(paths, from_strain, detect_transient=False):
 
 def write_table(output, rows, from_strain, command_line, detect_transient=False):
     """Write the rows of analyse() as the table, atomically."""
-    script = os.path.abspath(__file__)
-    out = atomic_output(output)
-    try:
-        with h5py.File(out.name, "w") as f:
-            prm = f.create_group("parameters")
-            prm.attrs.update({"program": os.path.basename(script), "script_sha256": sha256(script),
-                              "command_line": command_line, "from_strain": from_strain,
-                              "detect_transient": int(detect_transient), "error_method": ERROR_METHOD})
-            text = h5py.string_dtype()
-            runs = f.create_group("runs")
-            runs.create_dataset("input", data=np.array([r[0] for r in rows], dtype=object), dtype=text)
-            runs.create_dataset("input_sha256", data=np.array([r[1] for r in rows], dtype=object), dtype=text)
-            for col, attr in RUN_COLUMNS.items():
-                ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
-                ds.attrs["meaning"] = f"the run's /parameters attribute '{attr}'"
-            runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
-            runs["samples"].attrs["meaning"] = "observable rows averaged (strain >= steady_from)"
-            for col, k, meaning in (
-                    ("steady_from", 0, f"strain the steady part starts at (>= {from_strain}; "
-                                       + ("MSER on T and p" if detect_transient else "fixed") + ")"),
-                    ("halves_z", 1, "larger |difference| of the means of T and of p between the steady "
-                                    "part's halves, in combined blocking errors")):
-                runs.create_dataset(col, data=np.array([r[6][k] for r in rows], dtype=float))
-                runs[col].attrs["meaning"] = meaning
-            runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows],
-                                                            dtype=np.uint8))
-            runs["stationary"].attrs["meaning"] = f"1 if halves_z <= {STATIONARY_SIGMAS}"
-            steady = f.create_group("steady")
-            for name, (meaning, units, _, _) in QUANTITIES.items():
-                for suffix, col, what in (("", 0, "steady-state value"), ("_error", 1, ERROR_METHOD),
-                                          ("_plateau", 2, "1 if blocking reached a plateau, else the error "
-                                                          "is a lower bound")):
-                    ds = steady.create_dataset(name + suffix, data=np.array([r[3][name][col] for r in rows],
-                                                                            dtype=np.uint8 if col == 2 else float))
-                    ds.attrs.update({"meaning": f"{meaning}: {what}", "units": units if col < 2 else "1"})
-            diag = f.create_group("diagnostics")
-            for name, (meaning, units) in DIAGNOSTICS.items():
-                ds = diag.create_dataset(name, data=np.array([r[4][name] for r in rows]))
-                ds.attrs.update({"meaning": meaning + " over the steady part", "units": units})
-        out.commit()
-    finally:
-        out.abandon()
+    parameters = {"from_strain": from_strain, "detect_transient": int(detect_transient), "error_method": ERROR_METHOD}
+    with outputs.table(output, os.path.abspath(__file__), command_line, parameters,
+                       [(r[0], r[1]) for r in rows]) as f:
+        runs = f["runs"]
+        for col, attr in RUN_COLUMNS.items():
+            ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
+            ds.attrs["meaning"] = f"the run's /parameters attribute '{attr}'"
+        runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
+        runs["samples"].attrs["meaning"] = "observable rows averaged (strain >= steady_from)"
+        for col, k, meaning in (
+                ("steady_from", 0, f"strain the steady part starts at (>= {from_strain}; "
+                                   + ("MSER on T and p" if detect_transient else "fixed") + ")"),
+                ("halves_z", 1, "larger |difference| of the means of T and of p between the steady "
+                                "part's halves, in combined blocking errors")):
+            runs.create_dataset(col, data=np.array([r[6][k] for r in rows], dtype=float))
+            runs[col].attrs["meaning"] = meaning
+        runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows],
+                                                        dtype=np.uint8))
+        runs["stationary"].attrs["meaning"] = f"1 if halves_z <= {STATIONARY_SIGMAS}"
+        steady = f.create_group("steady")
+        for name, (meaning, units, _, _) in QUANTITIES.items():
+            for suffix, col, what in (("", 0, "steady-state value"), ("_error", 1, ERROR_METHOD),
+                                      ("_plateau", 2, "1 if blocking reached a plateau, else the error "
+                                                      "is a lower bound")):
+                ds = steady.create_dataset(name + suffix, data=np.array([r[3][name][col] for r in rows],
+                                                                        dtype=np.uint8 if col == 2 else float))
+                ds.attrs.update({"meaning": f"{meaning}: {what}", "units": units if col < 2 else "1"})
+        diag = f.create_group("diagnostics")
+        for name, (meaning, units) in DIAGNOSTICS.items():
+            ds = diag.create_dataset(name, data=np.array([r[4][name] for r in rows]))
+            ds.attrs.update({"meaning": meaning + " over the steady part", "units": units})
 
 
 def read_table(path):
     """A steady-state table: {"runs": {column: array}, "steady": {name: array},
     "diagnostics": {name: array}, "parameters": {attribute: value}}."""
-    with h5py.File(path, "r") as f:
-        table = {g: {k: (np.array([_text(v) for v in ds[...]]) if ds.dtype.kind == "O" else ds[...])
-                     for k, ds in f[g].items()} for g in ("runs", "steady", "diagnostics")}
-        table["parameters"] = {k: _text(v) for k, v in f["parameters"].attrs.items()}
-    return table
+    return outputs.read_table(path, ("runs", "steady", "diagnostics"))
 
 
 def select(table, **columns):

@@ -4,19 +4,9 @@ pressure p/(γ̇²m) against shear strain for the same packing sheared at differ
 (one panel per rate, slowest on top); Bagnold scaling makes the traces identical. The band
 is the steady mean ± its blocking error (steady_state.py) over strain >= S."""
 import argparse
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-import steady_state as ss
-from granflow_h5 import save_figure
+from analysis import steady_state as ss
+from granflow_py.plotting import plt, save_figure
 
 
 def main():

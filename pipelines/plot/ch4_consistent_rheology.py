@@ -7,21 +7,13 @@ steady_state.py table, blocking errors), for μ = 0 (left) and μ = 0.4 (right).
 restitution E (the incline's) with ν ≥ NU (0.7): like the thesis, only the dense shear data.
 mT/(p⟨R⟩²) on a log scale (it spans decades near ν_max)."""
 import argparse
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import incline_bulk as ib
-import steady_state as ss
-from granflow_h5 import save_figure
+from analysis import incline_bulk as ib
+from analysis import steady_state as ss
+from granflow_py.plotting import plt, save_figure
+
 
 INVARIANTS = (("s_over_p", "s_over_p", "$s/p$"),
               ("inertial", "rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),

@@ -4,19 +4,9 @@ Fig. 4.9, the three Bagnold invariants s/p, γ̇⟨R⟩/√T and mT/(p⟨R⟩²)
 against the height above the base in mean diameters, with their bulk means (incline_bulk.py,
 shaded layers) and, for s/p, tan θ (what the momentum balance imposes when Σxx = Σyy)."""
 import math
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-import incline_bulk as ib
-from granflow_h5 import save_figure
+from analysis import incline_bulk as ib
+from granflow_py.plotting import plt, save_figure
 
 
 def main():

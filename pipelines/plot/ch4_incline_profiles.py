@@ -9,20 +9,11 @@ Normalisation: the thesis' text normalises the stresses "by mg⟨R⟩⁻¹"; its
 p⟨R⟩²/mg, which is not dimensionless for a 2D stress (force per length): we follow the text.
 The bulk layers (incline_bulk.py) are shaded."""
 import math
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import incline_bulk as ib
-from granflow_h5 import save_figure
+from analysis import incline_bulk as ib
+from granflow_py.plotting import plt, save_figure
 
 
 def main():

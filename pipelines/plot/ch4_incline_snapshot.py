@@ -7,18 +7,14 @@ drawn whole) and y perpendicular to it; it is rotated by −θ."""
 import argparse
 import math
 import os
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle
 
-from granflow_h5 import read_frame, save_figure
+from granflow_py.disks import periodic_images
+from granflow_py.hdf5 import read_frame
+from granflow_py.plotting import plt, save_figure
 
 
 def main():
@@ -37,19 +33,14 @@ def main():
     rot = np.array([[math.cos(t), math.sin(t)], [-math.sin(t), math.cos(t)]])  # R(−θ)
     speed = vel[:, 0] / math.sqrt(gravity * mean_r)
     top = float(np.max(speed[~fixed])) if (~fixed).any() else 1.0
-    mobile, base = [], []
-    values = []
-    for k in (-1, 0, 1):  # periodic images that reach into [0, lx)
-        x = pos[:, 0] + k * lx
-        near = (x > -radius) & (x < lx + radius)
-        for i in np.flatnonzero(near):
-            centre = rot @ np.array([x[i], pos[i, 1]])
-            (base if fixed[i] else mobile).append(Circle(centre, radius[i]))
-            if not fixed[i]:
-                values.append(speed[i])
+    grain, x, y, _ = periodic_images(pos, radius, lx)  # x periodic, one period drawn
+    centres = [rot @ np.array([xi, yi]) for xi, yi in zip(x, y)]
+    base = [Circle(c, radius[i]) for c, i in zip(centres, grain) if fixed[i]]
+    mobile = [Circle(c, radius[i]) for c, i in zip(centres, grain) if not fixed[i]]
+    values = speed[grain[~fixed[grain]]]
     fig, ax = plt.subplots(figsize=(8, 5.5))
     cells = PatchCollection(mobile, cmap="viridis", edgecolors="k", linewidths=0.15)
-    cells.set_array(np.array(values))
+    cells.set_array(values)
     cells.set_clim(0, top)
     ax.add_collection(cells)
     ax.add_collection(PatchCollection(base, facecolors="k", edgecolors="k"))

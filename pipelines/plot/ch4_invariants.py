@@ -3,19 +3,10 @@
 invariant dimensionless groups s/p, γ̇<R>/√T and mT/(p<R>²) of one run against shear
 strain, with their steady means ± blocking error (steady_state.py) over strain >= S."""
 import argparse
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
+from analysis import steady_state as ss
+from granflow_py.plotting import plt, save_figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-import steady_state as ss
-from granflow_h5 import save_figure
 
 PANELS = (("s_over_p", r"$s/p$"), ("rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),
           ("mT_over_pR2", r"$mT/p\langle R\rangle^2$"))

@@ -3,19 +3,10 @@
 and T/(γ̇²<R>²) and s/p (right) against packing fraction, for e = 0 and μ = 0, from the
 sweep table of steady_state.py (error bars: its blocking errors)."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-import steady_state as ss
-from granflow_h5 import save_figure
+from analysis import steady_state as ss
+from granflow_py.plotting import plt, save_figure
 
 
 def main():

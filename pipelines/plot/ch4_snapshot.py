@@ -4,18 +4,14 @@ shear run with every grain coloured by its lab-frame v_x in units of γ̇L_y/2, 
 coordinates centred on the cell as in the thesis (the mean flow is v_x = γ̇y)."""
 import argparse
 import os
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PatchCollection
-from matplotlib.patches import Circle, Rectangle
+from matplotlib.patches import Rectangle
 
-from granflow_h5 import read_frame, save_figure
+from granflow_py.disks import circles, periodic_images
+from granflow_py.hdf5 import read_frame
+from granflow_py.plotting import plt, save_figure
 
 
 def main():
@@ -29,20 +25,13 @@ def main():
     (lx, _), (offset, ly) = d["edges"]
     rate, nu, e, mu = (float(d["parameters"][k]) for k in ("rate", "packing_fraction", "restitution", "friction"))
     colour = vel[:, 0] / (rate * ly / 2)
-    patches, values = [], []
-    # Periodic images, so grains cut by the boundary are drawn whole (the cell clips them):
-    # the image above is shifted by the Lees–Edwards offset δ and moves γ̇L_y faster.
-    for ky in (-1, 0, 1):
-        for kx in (-2, -1, 0, 1, 2):
-            x = pos[:, 0] + kx * lx + ky * offset
-            y = pos[:, 1] + ky * ly
-            near = (x > -radius) & (x < lx + radius) & (y > -radius) & (y < ly + radius)
-            for xi, yi, r, c in zip(x[near], y[near], radius[near], colour[near] + 2 * ky):
-                patches.append(Circle((xi - lx / 2, yi - ly / 2), r))
-                values.append(c)
+    # The image above moves γ̇L_y faster than the grain: its colour is 2 higher.
+    grain, x, y, ky = periodic_images(pos, radius, lx, ly, offset)
+    patches = circles(x - lx / 2, y - ly / 2, radius[grain])
+    values = colour[grain] + 2 * ky
     fig, ax = plt.subplots(figsize=(6.5, 6 * ly / lx))
     cells = PatchCollection(patches, cmap="coolwarm", edgecolors="k", linewidths=0.2)
-    cells.set_array(np.array(values))
+    cells.set_array(values)
     cells.set_clim(-1.2, 1.2)
     cells.set_clip_path(Rectangle((-lx / 2, -ly / 2), lx, ly, transform=ax.transData))
     ax.add_collection(cells)

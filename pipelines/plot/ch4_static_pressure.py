@@ -3,20 +3,12 @@
 against packing fraction for every restitution e of the sweep at μ = 0, from the sweep
 table of steady_state.py (error bars: its blocking errors)."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import steady_state as ss
-from granflow_h5 import save_figure
+from analysis import steady_state as ss
+from granflow_py.plotting import plt, save_figure
 
 
 def main():

@@ -9,20 +9,12 @@ Fig. 5.6: 2πξ(θ)/ξ of every such run at μ = 0 (colour: e), the fit of eq. 5
 (linear weighted least squares, correlation_table.fit_anisotropy) and the thesis' curve
 (a0 = 0.21, θ0 = 0.013)."""
 import argparse
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.plotting import plt, save_figure
+
 
 THESIS_A0, THESIS_THETA0 = 0.21, 0.013
 

@@ -4,23 +4,16 @@ file made with --clusters-window (the short branches of ch5.mk): grains that wer
 during the window are coloured by connected cluster (cluster 1, the largest, first in the
 colour cycle), the others are grey. Radii are read from each run (the file's /runs/input)."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
 import h5py
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.collections import PatchCollection
-from matplotlib.patches import Circle, Rectangle
+from matplotlib.patches import Rectangle
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.disks import circles, periodic_images
+from granflow_py.plotting import plt, save_figure
 
 
 def cluster_colours(labels):
@@ -34,15 +27,8 @@ def cluster_colours(labels):
 
 
 def draw(ax, position, radius, colours, lx, ly, offset):
-    patches, facecolours = [], []
-    for ky in (-1, 0, 1):
-        for kx in (-2, -1, 0, 1, 2):
-            x = position[:, 0] + kx * lx + ky * offset
-            y = position[:, 1] + ky * ly
-            near = (x > -radius) & (x < lx + radius) & (y > -radius) & (y < ly + radius)
-            for xi, yi, r, c in zip(x[near], y[near], radius[near], colours[near]):
-                patches.append(Circle((xi, yi), r))
-                facecolours.append(c)
+    grain, x, y, _ = periodic_images(position, radius, lx, ly, offset)
+    patches, facecolours = circles(x, y, radius[grain]), colours[grain]
     cells = PatchCollection(patches, facecolors=facecolours, edgecolors="k", linewidths=0.15)
     cells.set_clip_path(Rectangle((0, 0), lx, ly, transform=ax.transData))
     ax.add_collection(cells)

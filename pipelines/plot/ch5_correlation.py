@@ -7,20 +7,12 @@ lines A·exp(−ℓ/ξ_|C|), ξ_|C| gf-correlate's decay length (/correlation/xi
 the points above noise. Without
 a run at E, the nearest e of the table is used."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.plotting import plt, save_figure
 
 
 def floats(text):

@@ -7,20 +7,12 @@ Fig. 5.7: P(f) (points) against P(f_bc) (line) for e = E at six ν spread over t
 Fig. 5.8: log P(f), curves offset by factors of 10; left ν ≈ NU for every e, right e = E for
 six ν spread over the sweep. Without a run at E, the nearest e of the table is used."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.plotting import plt, save_figure
 
 
 def decision(table, row):

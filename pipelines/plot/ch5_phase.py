@@ -9,20 +9,12 @@ Fig. 5.10: the phase diagram in (ν, e): every run of the sweep at μ = 0 marked
 ν_bc(e) line and ν_c. Series whose crossing is not bracketed are drawn as
 arrows at the end of the ν range they lie beyond."""
 import argparse
-import os
-import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.plotting import plt, save_figure
+
 
 NU_C = 0.845  # thesis' estimate of the jamming packing fraction
 

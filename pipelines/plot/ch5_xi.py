@@ -7,20 +7,12 @@ xi_abs_el, the reference runs) and the dotted one 1.25 ξ_el. Hollow markers: ru
 gf-correlate flags as not measurable (/correlation/measurable: correlations reach the box, so
 ξ_|C| measures the cell rather than the network, the thesis' "too large to be measured")."""
 import argparse
-import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
-import correlation_table as ct
-from granflow_h5 import save_figure
+from granflow_py import correlation_table as ct
+from granflow_py.plotting import plt, save_figure
 
 
 def series(table, vary, restitution):

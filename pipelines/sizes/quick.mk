@@ -1,11 +1,11 @@
-# Quick reproduction: minutes on a laptop.
+# Quick reproduction (the default SIZE): 1000 grains per run; the shear runs' budget is below.
 PACK_GRAINS := 1000
 PACK_NU     := 0.300 0.400 0.500 0.600 0.700 0.760 0.800 0.820
 PACK_SEEDS  := 1
 # Chapter 4, simple shear (gf-shear): the ν grid of Figs 4.4-4.6 at CH4_RATE for every
 # restitution of Fig 4.6 (e = 0 serves Figs 4.4, 4.5), and the Bagnold pair of Fig 4.2
 # (ν = CH4_BAGNOLD_NU, e = 0, two rates, same packing); ν from 0.3 so that Fig 4.5 shows
-# the static/kinetic crossover. Budget: in a fresh-clone `make -j2` (2026-11-24) the 79 shear
+# the static/kinetic crossover. Budget: in a fresh-clone `make -j2` the 79 shear
 # runs of chapters 4 and 5 (those at SHEAR_LONG_NU 40 strain units long) all finished within
 # 9 min of wall time; SHEAR_STRAIN is the knob (make SHEAR_STRAIN=3 ...).
 CH4_NU            := $(PACK_NU)

@@ -1,8 +1,9 @@
-"""Synthetic gf-shear trajectories for the pipeline's Python tests: files laid out as the
+"""Synthetic inputs for the pipeline's Python tests: gf-shear trajectories laid out as the
 gf-shear contract says (H5MD observables every step, /parameters by CLI name plus the
 derived packing_fraction, mean_radius, mean_mass, dt, grains), with series the test
-chooses, so the analysis can be checked against known answers; and ScriptRunner, which
-runs a pipeline script from a test."""
+chooses, so the analysis can be checked against known answers; gf-incline trajectories;
+gf-correlate tables (their layout checked against the real program's output by
+test_correlate_schema.py); and ScriptRunner, which runs a pipeline script from a test."""
 import os
 import subprocess
 import sys
@@ -156,9 +157,11 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
             g[name] = col(name)
         g["grains"] = np.full(n, grains, dtype=np.int64)
         g["frames"] = np.full(n, frames, dtype=np.int64)
+        g["first_strain"], g["last_strain"] = np.full(n, 0.5), np.full(n, 5.0)
         c = out.create_group("correlation")
         c.attrs.update({"mean_diameter": sigma, "bin_width": bin_width, "max_lag": max_lag,
-                        "angle_bins": angle_bins, "from_strain": 0.5})
+                        "angle_bins": angle_bins, "from_strain": 0.5,
+                        "detect_transient": np.int64(1)})
         c["r"] = r
         c["C"] = np.array([row["C"] for row in rows])
         c["C_error"] = np.array([row["C_error"] for row in rows])
@@ -234,6 +237,46 @@ def write_clusters_table(path, run_paths, labels_per_run, side=10.0, rng=None):
         c["first_step"] = np.zeros(len(run_paths), dtype=np.int64)
         c["last_step"] = np.ones(len(run_paths), dtype=np.int64)
     return path
+
+
+# The chapter-5 sweep of chapter5_tables(): ξ_|C| = 1.7 + 3(ν − 0.55 − 0.2e)+ (+0.5 with
+# friction at ν > 0.7) crosses 1.25 ξ_el = 1.25·1.7 at ν = 0.6917 + 0.2e: the ν_bc gf-correlate
+# would write, given to the table; two dense runs flagged as not measurable.
+CH5_NU_BC = {(0.0, 0.0): 0.6917, (0.25, 0.0): 0.7417, (0.5, 0.0): 0.7917, (0.0, 0.4): 0.66}
+CH5_NOT_MEASURABLE = {(0.81, 0.0, 0.0), (0.81, 0.0, 0.4)}
+
+
+def chapter5_tables(d):
+    """A synthetic chapter-5 sweep in directory d, with known ξ_|C|, flags and ν_bc: the
+    gf-correlate table (ch5_correlate.h5, every e at μ = 0 and μ = 0.4 at e = 0, five ν each,
+    the reference at e = 0.92, ν = 0.3), the cluster table of two windows (ch5_clusters.h5) and
+    a packing. Returns {"rows", "table", "clusters", "packing"}."""
+    rng = np.random.default_rng(11)
+    r = (np.arange(300) + 0.5) * 0.07
+    rows = []
+    for mu in (0.0, 0.4):
+        for e in ((0.0, 0.25, 0.5, 0.75, 0.92) if mu == 0 else (0.0,)):
+            for nu in (0.3, 0.6, 0.7, 0.77, 0.81):
+                xi = 0.3 + 3.0 * max(0.0, nu - 0.55 - 0.2 * e) + (0.5 if mu > 0 and nu > 0.7 else 0)
+                c, err = correlation_row(r, xi, noise=1e-4, rng=rng)
+                dense = 1.4 + xi >= 1.25 * 1.7
+                rows.append(dict(input=os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}_mu{mu:.2f}.h5"),
+                                 packing_fraction=nu, restitution=e, friction=mu, C=c, C_error=err,
+                                 xi=1.4 + xi, xi_error=0.05, xi_abs=1.4 + xi, xi_abs_error=0.02,
+                                 measurable=0 if (nu, e, mu) in CH5_NOT_MEASURABLE else 1,
+                                 xi_abs_tail=0.2 if (nu, e, mu) in CH5_NOT_MEASURABLE else 0.001,
+                                 peak=0 if dense else 1, force_mode=0.0 if dense else 0.8))
+    ref = rows[4 * 5 + 0]["input"]  # e = 0.92, ν = 0.3
+    sweep = [dict(restitution=e, friction=mu, nu_bc=v, nu_bc_error=0.004, nu_below=0.6 + 0.1 * (v > 0.7),
+                  nu_above=0.7 + 0.07 * (v > 0.7), status=0) for (e, mu), v in CH5_NU_BC.items()]
+    table = write_correlate_table(os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref],
+                                  xi_abs_el=(1.7, 0.012), sweep_abs=sweep)
+    runs = [write_packing(os.path.join(d, f"window{k}.h5")) for k in range(2)]
+    labels = [np.array([0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 4, 0, 5, 5, 0, 0]),
+              np.array([1] * 10 + [2, 2, 2, 0, 0, 0])]
+    clusters = write_clusters_table(os.path.join(d, "ch5_clusters.h5"), runs, labels)
+    packing = write_packing(os.path.join(d, "pack.h5"))
+    return {"rows": rows, "table": table, "clusters": clusters, "packing": packing}
 
 
 def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=0.7, nu=0.8, bin_diameters=3.0,

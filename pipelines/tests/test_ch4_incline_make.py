@@ -9,6 +9,8 @@ import subprocess
 import tempfile
 import unittest
 
+from granflow_py.hdf5 import text
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 
@@ -50,7 +52,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
                               r"TMP/runs/incline_th20_\S+ TMP/runs/incline_th22_\S+ TMP/runs/incline_th5_\S+\n")
         for k in (7, 8, 9, 10):
             self.assertIn(f"TMP/figures/fig4_{k}.png", out)
-        # Fig 4.10 reads the shear sweep, which now has the μ = 0.4 rows.
+        # Fig 4.10 reads the shear sweep, which has the μ = 0.4 rows too.
         self.assertIn("shear_nu0.700_e0.50_mu0.40_r1e-02_s1.h5", out)
 
     def test_branch_settings_and_any_name(self):
@@ -121,14 +123,13 @@ class Ch4InclineBranchRunTest(unittest.TestCase):
                 p = f["parameters"].attrs
                 self.assertEqual((p["angle"], p["friction"], p["parent_angle"], p["parent_friction"]), (30, 0.4, 20, 0))
                 parent = p["input"]
-                self.assertEqual(parent.decode() if isinstance(parent, bytes) else parent,
-                                 f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
+                self.assertEqual(text(parent), f"{d}/runs/incline_th20_e0.50_mu0.00_s1.h5")
             with h5py.File(targets[0], "r") as f:
-                rows = [os.path.basename(x.decode() if isinstance(x, bytes) else x) for x in f["runs/input"][...]]
+                rows = [os.path.basename(text(x)) for x in f["runs/input"][...]]
                 k = rows.index(os.path.basename(branch))
                 self.assertAlmostEqual(f["runs/friction"][k], 0.4)
                 start = f["runs/start"][k]
-                self.assertEqual(start.decode() if isinstance(start, bytes) else start, "incline_th20_e0.50_mu0.00_s1.h5")
+                self.assertEqual(text(start), "incline_th20_e0.50_mu0.00_s1.h5")
                 self.assertAlmostEqual(f["runs/start_time"][k], 20, places=6)  # the parent's 20 τ
                 self.assertEqual(f["runs/start_friction"][k], 0)
             with open(targets[1], "rb") as fh:

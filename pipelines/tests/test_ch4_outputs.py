@@ -2,18 +2,14 @@
 each script runs, writes its PNG (atomically) and the report quotes the thesis beside our values."""
 import glob
 import os
-import sys
 import tempfile
 import unittest
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PIPELINES = os.path.join(HERE, "..")
-sys.path.insert(0, os.path.join(PIPELINES, "analysis"))
-sys.path.insert(0, HERE)
-import steady_state as ss  # noqa: E402
-import synthetic  # noqa: E402
+from analysis import steady_state as ss
+
+import synthetic  # a sibling module: the tests' own fixtures
 
 
 class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):

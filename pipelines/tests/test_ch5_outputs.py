@@ -5,18 +5,14 @@ section on a synthetic gf-correlate table with known ξ_|C|, flags and ν_bc."""
 import glob
 import math
 import os
-import sys
 import tempfile
 import unittest
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PIPELINES = os.path.join(HERE, "..")
-sys.path.insert(0, os.path.join(PIPELINES, "analysis"))
-sys.path.insert(0, HERE)
-import correlation_table as ct  # noqa: E402
-import synthetic  # noqa: E402
+from granflow_py import correlation_table as ct
+
+import synthetic  # a sibling module: the tests' own fixtures
 
 R = (np.arange(300) + 0.5) * 0.07
 
@@ -57,40 +53,14 @@ class PeakRuleTest(unittest.TestCase):
 
 
 class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
-    # ξ_|C| = 1.7 + 3(ν − 0.55 − 0.2e)+ (+0.5 with friction at ν > 0.7) crosses 1.25 ξ_el =
-    # 1.25·1.7 at ν = 0.6917 + 0.2e: the ν_bc gf-correlate would write, given to the table.
-    NU_BC = {(0.0, 0.0): 0.6917, (0.25, 0.0): 0.7417, (0.5, 0.0): 0.7917, (0.0, 0.4): 0.66}
-    NOT_MEASURABLE = {(0.81, 0.0, 0.0), (0.81, 0.0, 0.4)}
+    NU_BC = synthetic.CH5_NU_BC
+    NOT_MEASURABLE = synthetic.CH5_NOT_MEASURABLE
 
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
-        d = cls.tmp.name
-        rng = np.random.default_rng(11)
-        rows = []
-        for mu in (0.0, 0.4):
-            for e in ((0.0, 0.25, 0.5, 0.75, 0.92) if mu == 0 else (0.0,)):
-                for nu in (0.3, 0.6, 0.7, 0.77, 0.81):
-                    xi = 0.3 + 3.0 * max(0.0, nu - 0.55 - 0.2 * e) + (0.5 if mu > 0 and nu > 0.7 else 0)
-                    c, err = synthetic.correlation_row(R, xi, noise=1e-4, rng=rng)
-                    dense = 1.4 + xi >= 1.25 * 1.7
-                    rows.append(dict(input=os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}_mu{mu:.2f}.h5"),
-                                     packing_fraction=nu, restitution=e, friction=mu, C=c, C_error=err,
-                                     xi=1.4 + xi, xi_error=0.05, xi_abs=1.4 + xi, xi_abs_error=0.02,
-                                     measurable=0 if (nu, e, mu) in cls.NOT_MEASURABLE else 1,
-                                     xi_abs_tail=0.2 if (nu, e, mu) in cls.NOT_MEASURABLE else 0.001,
-                                     peak=0 if dense else 1, force_mode=0.0 if dense else 0.8))
-        cls.rows = rows
-        ref = rows[4 * 5 + 0]["input"]  # e = 0.92, ν = 0.3
-        sweep = [dict(restitution=e, friction=mu, nu_bc=v, nu_bc_error=0.004, nu_below=0.6 + 0.1 * (v > 0.7),
-                      nu_above=0.7 + 0.07 * (v > 0.7), status=0) for (e, mu), v in cls.NU_BC.items()]
-        cls.table = synthetic.write_correlate_table(os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref],
-                                                    xi_abs_el=(1.7, 0.012), sweep_abs=sweep)
-        runs = [synthetic.write_packing(os.path.join(d, f"window{k}.h5")) for k in range(2)]
-        labels = [np.array([0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 4, 0, 5, 5, 0, 0]),
-                  np.array([1] * 10 + [2, 2, 2, 0, 0, 0])]
-        cls.clusters = synthetic.write_clusters_table(os.path.join(d, "ch5_clusters.h5"), runs, labels)
-        cls.packing = synthetic.write_packing(os.path.join(d, "pack.h5"))
+        sweep = synthetic.chapter5_tables(cls.tmp.name)
+        cls.rows, cls.table, cls.clusters, cls.packing = (sweep[k] for k in ("rows", "table", "clusters", "packing"))
 
     @classmethod
     def tearDownClass(cls):

@@ -12,14 +12,13 @@ import unittest
 import h5py
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PIPELINES = os.path.join(HERE, "..")
-sys.path.insert(0, os.path.join(PIPELINES, "analysis"))
-sys.path.insert(0, HERE)
-import critical_angle as ca  # noqa: E402
-import incline_bulk as ib  # noqa: E402
-import steady_state as ss  # noqa: E402
-import synthetic  # noqa: E402
+from analysis import critical_angle as ca
+from analysis import incline_bulk as ib
+from analysis import steady_state as ss
+
+import synthetic  # a sibling module: the tests' own fixtures
+
+PIPELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
 TAU = math.sqrt(0.7)  # √(⟨R⟩/g) of the synthetic runs
 

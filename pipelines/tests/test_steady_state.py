@@ -13,12 +13,12 @@ import unittest
 import h5py
 import numpy as np
 
+from analysis import steady_state as ss
+
+import synthetic  # a sibling module: the tests' own fixtures
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "..", "analysis", "steady_state.py")
-sys.path.insert(0, os.path.join(HERE, "..", "analysis"))
-sys.path.insert(0, HERE)
-import steady_state as ss  # noqa: E402
-import synthetic  # noqa: E402
 
 
 class BlockingTest(unittest.TestCase):

@@ -27,7 +27,7 @@ mapfile -t trajectories < <(ls runs/test/shear_*.h5 runs/test/window_*.h5 runs/t
 up_to_date || fail "fresh ch5 is not up to date"
 # Runs at the ν of SHEAR_LONG_NU (0.5 in test.mk) take SHEAR_LONG_STRAIN, the others
 # SHEAR_STRAIN; gf-correlate was asked to find each run's transient.
-/usr/bin/python3 - <<'PY' || fail "run lengths or transient detection not as test.mk asks"
+PYTHONPATH=pipelines /usr/bin/python3 - <<'PY' || fail "run lengths or transient detection not as test.mk asks"
 import glob, h5py
 for path in glob.glob("runs/test/shear_nu*.h5"):
     with h5py.File(path, "r") as f:
@@ -36,9 +36,7 @@ for path in glob.glob("runs/test/shear_nu*.h5"):
     assert abs(strain - expected) < 1e-12, (path, strain)
 # gf-correlate (C++) and steady_state.py (Python) apply the same rule: each run's first frame
 # averaged is the first frame at or after the strain steady_state.py starts that run at.
-import sys
-sys.path.insert(0, "pipelines/analysis")
-import steady_state as ss
+from analysis import steady_state as ss
 with h5py.File("runs/test/ch5_correlate.h5", "r") as f:
     assert int(f["/correlation"].attrs["detect_transient"]) == 1
     inputs = [p.decode() if isinstance(p, bytes) else p for p in f["/runs/input"][...]]

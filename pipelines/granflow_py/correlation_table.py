@@ -1,5 +1,5 @@
-"""correlation_table.py: read gf-correlate's output (one row per run, see lib/correlation/
-report.hpp) for the chapter-5 figures and report.
+"""Reading gf-correlate's output (one row per run, see lib/correlation/report.hpp) for the
+chapter-5 figures and report.
 
 The correlation length of the figures is gf-correlate's ξ_|C| (/correlation/xi_abs): the
 decay length of |C̄(ℓ)|, eq. 5.2 on |C̄| with a noise floor, exact bin integrals and
@@ -18,11 +18,9 @@ import math
 import h5py
 import numpy as np
 
+from granflow_py.hdf5 import read_attrs, read_group
+
 NAN = float("nan")
-
-
-def _decode(a):
-    return np.array([x.decode() if isinstance(x, bytes) else str(x) for x in a])
 
 
 def read_table(path):
@@ -30,16 +28,9 @@ def read_table(path):
     table = {"path": path}
     with h5py.File(path, "r") as f:
         for group in ("runs", "correlation", "forces", "sweep", "reference", "clusters"):
-            if group not in f:
-                continue
-            g = {}
-            for name, d in f[group].items():
-                value = d[()]
-                g[name] = _decode(value) if d.dtype.kind in "SO" else np.asarray(value)
-            g["attrs"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f[group].attrs.items()}
-            table[group] = g
-        table["parameters"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["parameters"].attrs.items()} \
-            if "parameters" in f else {}
+            if group in f:
+                table[group] = {**read_group(f[group]), "attrs": read_attrs(f[group])}
+        table["parameters"] = read_attrs(f["parameters"]) if "parameters" in f else {}
     return table
 
 

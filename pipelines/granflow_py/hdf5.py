@@ -1,0 +1,58 @@
+"""Reading granflow's HDF5 files: strings as text, attributes, whole groups of datasets, one
+stored frame of grains; and the SHA-256 every table records for its inputs."""
+import hashlib
+
+import h5py
+import numpy as np
+
+
+def text(value):
+    """An HDF5 string as str (h5py returns variable-length strings as bytes); anything else as is."""
+    return value.decode() if isinstance(value, bytes) else value
+
+
+def read_attrs(obj):
+    """The attributes of an HDF5 group or dataset, strings as text."""
+    return {k: text(v) for k, v in obj.attrs.items()}
+
+
+def read_dataset(ds):
+    """A dataset's values: string datasets as an array of str, others as stored."""
+    if ds.dtype.kind in "SO":
+        return np.array([text(v) for v in ds[()]])
+    return np.asarray(ds[()])
+
+
+def read_group(group):
+    """{name: values} of every dataset directly in an HDF5 group."""
+    return {k: read_dataset(ds) for k, ds in group.items()}
+
+
+def read_parameters(path):
+    """The /parameters attributes of a granflow file (every program and table writes them)."""
+    with h5py.File(path, "r") as f:
+        return read_attrs(f["/parameters"])
+
+
+def read_frame(path, frame=-1):
+    """Positions, velocities, time, radii, fixed flags, box edges and parameters of one stored frame."""
+    with h5py.File(path, "r") as f:
+        g = f["/particles/grains"]
+        pos = g["position/value"][frame]
+        vel = g["velocity/value"][frame]
+        time = float(g["position/time"][frame])
+        radius = g["radius"][...]
+        fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
+        edges = g["box/edges/value"][frame]
+        params = read_attrs(f["/parameters"])
+    return {"position": pos, "velocity": vel, "time": time, "radius": radius, "fixed": fixed, "edges": edges,
+            "parameters": params}
+
+
+def sha256(path):
+    """Hex SHA-256 of a file."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()

@@ -1,0 +1,74 @@
+"""Outputs written atomically (a temporary name beside the target, renamed into place only when
+complete, like the C++ programs: make never sees a half-written file as up to date), and the
+one writer of the analysis tables with their provenance."""
+import contextlib
+import os
+import tempfile
+
+import h5py
+import numpy as np
+
+from granflow_py.hdf5 import read_attrs, read_group, sha256
+
+
+def atomic_output(path):
+    """A temporary path beside `path` (.name); commit() renames it into place, abandon() removes
+    it if it is still there."""
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=directory, prefix="." + os.path.basename(path) + ".part-",
+                               suffix=os.path.splitext(path)[1])
+    os.close(fd)
+
+    class _Out:
+        name = tmp
+
+        @staticmethod
+        def commit():
+            # mkstemp creates the file 0600; give it the permissions a plain open() would.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)
+            os.replace(tmp, path)
+
+        @staticmethod
+        def abandon():
+            if os.path.exists(tmp):
+                os.remove(tmp)
+
+    return _Out
+
+
+def text_dataset(group, name, values):
+    """A dataset of variable-length strings, one per row."""
+    return group.create_dataset(name, data=np.array(list(values), dtype=object), dtype=h5py.string_dtype())
+
+
+@contextlib.contextmanager
+def table(output, script, command_line, parameters, inputs):
+    """Write an analysis table atomically: yields the open h5py.File, already holding the
+    provenance every table carries, so that a table says what made it from what:
+    /parameters attributes program (the script's file name), script_sha256, command_line, then
+    `parameters` (the script's settings, in order); /runs/input and /runs/input_sha256, one row
+    per (path, sha256) of `inputs`. The file is renamed into place when the block completes."""
+    out = atomic_output(output)
+    try:
+        with h5py.File(out.name, "w") as f:
+            f.create_group("parameters").attrs.update({
+                "program": os.path.basename(script), "script_sha256": sha256(script), "command_line": command_line,
+                **parameters})
+            runs = f.create_group("runs")
+            text_dataset(runs, "input", [path for path, _ in inputs])
+            text_dataset(runs, "input_sha256", [digest for _, digest in inputs])
+            yield f
+        out.commit()
+    finally:
+        out.abandon()
+
+
+def read_table(path, groups):
+    """{group: {name: values}} for the given groups of a table (strings as text), plus
+    "parameters": its /parameters attributes."""
+    with h5py.File(path, "r") as f:
+        result = {g: read_group(f[g]) for g in groups}
+        result["parameters"] = read_attrs(f["parameters"])
+    return result

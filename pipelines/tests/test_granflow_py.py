@@ -1,0 +1,106 @@
+"""granflow_py itself: the disk images (periodic in x, Lees–Edwards in y: the image above is
+shifted by +δ), the table writer's provenance and atomicity, and strings read back as text
+whichever way HDF5 stores them."""
+import glob
+import os
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+from granflow_py import outputs
+from granflow_py.disks import periodic_images
+from granflow_py.hdf5 import read_attrs, read_group, sha256
+
+
+def images_of(grain, result):
+    index, x, y, ky = result
+    keep = index == grain
+    return sorted(zip(np.round(x[keep], 12), np.round(y[keep], 12), ky[keep]))
+
+
+class PeriodicImagesTest(unittest.TestCase):
+    LX, LY, R = 10.0, 8.0, 0.5
+
+    def test_inner_grain_is_drawn_once(self):
+        got = images_of(0, periodic_images([[5.0, 4.0]], [self.R], self.LX, self.LY, 3.0))
+        self.assertEqual(got, [(5.0, 4.0, 0)])
+
+    def test_x_boundary_without_periodic_y(self):
+        # Cut by x = 0: drawn at x and x + lx; y is left alone even near the edges.
+        got = images_of(0, periodic_images([[0.2, 7.9]], [self.R], self.LX))
+        self.assertEqual(got, [(0.2, 7.9, 0), (10.2, 7.9, 0)])
+
+    def test_lees_edwards_image_above_is_shifted_by_plus_delta(self):
+        delta = 3.0
+        # Cut by y = 0: its image one period up is at (x + δ, y + ly).
+        got = images_of(0, periodic_images([[4.0, 0.2]], [self.R], self.LX, self.LY, delta))
+        self.assertEqual(got, [(4.0, 0.2, 0), (4.0 + delta, 0.2 + self.LY, 1)])
+        # Cut by y = ly: its image one period down is at (x − δ, y − ly).
+        got = images_of(0, periodic_images([[4.0, 7.9]], [self.R], self.LX, self.LY, delta))
+        self.assertEqual(got, [(4.0 - delta, round(7.9 - self.LY, 12), -1), (4.0, 7.9, 0)])
+
+    def test_shift_wraps_through_x(self):
+        # δ close to lx: the shifted image is brought back into the cell, two periods if need be.
+        delta = 9.9
+        got = images_of(0, periodic_images([[9.9, 0.2]], [self.R], self.LX, self.LY, delta))
+        self.assertIn((round(9.9 + delta - 2 * self.LX, 12), 0.2 + self.LY, 1), got)
+
+    def test_corner_grain_has_four_images(self):
+        got = images_of(0, periodic_images([[0.1, 0.1]], [self.R], self.LX, self.LY, 0.0))
+        self.assertEqual(len(got), 4)
+
+
+class TableTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.d = self.tmp.name
+        self.script = os.path.join(self.d, "maker.py")
+        with open(self.script, "w") as fh:
+            fh.write("# a table script\n")
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_provenance_and_inputs(self):
+        out = os.path.join(self.d, "table.h5")
+        with outputs.table(out, self.script, "maker.py -o table.h5 a.h5", {"window": 2.5},
+                           [("a.h5", "00ff"), ("b.h5", "ff00")]) as f:
+            f["runs"].create_dataset("x", data=[1.0, 2.0])
+        table = outputs.read_table(out, ("runs",))
+        self.assertEqual(table["parameters"], {"program": "maker.py", "script_sha256": sha256(self.script),
+                                               "command_line": "maker.py -o table.h5 a.h5", "window": 2.5})
+        self.assertEqual(list(table["runs"]["input"]), ["a.h5", "b.h5"])
+        self.assertEqual(list(table["runs"]["input_sha256"]), ["00ff", "ff00"])
+        np.testing.assert_array_equal(table["runs"]["x"], [1.0, 2.0])
+
+    def test_nothing_written_on_failure(self):
+        out = os.path.join(self.d, "table.h5")
+        with self.assertRaises(RuntimeError):
+            with outputs.table(out, self.script, "", {}, []):
+                raise RuntimeError("analysis failed")
+        self.assertEqual(os.listdir(self.d), ["maker.py"])
+        self.assertEqual(glob.glob(os.path.join(self.d, ".*")), [])
+
+
+class TextTest(unittest.TestCase):
+    def test_strings_come_back_as_text(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.h5")
+            with h5py.File(path, "w") as f:
+                g = f.create_group("g")
+                g["fixed"] = np.array([b"a.h5", b"bb.h5"])  # as the C++ programs write them
+                g["variable"] = np.array(["a.h5", "bb.h5"], dtype=h5py.string_dtype())
+                g["number"] = np.arange(2)
+                g.attrs["note"] = np.bytes_("x")
+            with h5py.File(path, "r") as f:
+                got = read_group(f["g"])
+                self.assertEqual(read_attrs(f["g"]), {"note": "x"})
+        self.assertEqual(list(got["fixed"]), ["a.h5", "bb.h5"])
+        self.assertEqual(list(got["variable"]), ["a.h5", "bb.h5"])
+        np.testing.assert_array_equal(got["number"], [0, 1])
+
+
+if __name__ == "__main__":
+    unittest.main()
