@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""check_docs.py REPO_ROOT BIN_DIR: the documentation cannot drift from the programs.
+
+Fails (exit 1, one line per problem) when
+  * a gf-* program in BIN_DIR has no page docs/programs/<program>.md;
+  * an option (long name) listed by `<program> --help` is not mentioned on its page;
+  * a row of a page's option tables names an option that `--help` no longer lists
+    (a removed or renamed option);
+  * a page docs/programs/<name>.md exists for no program in BIN_DIR;
+  * a relative link [text](path) or [text](path#anchor) in README.md, CHANGELOG.md or
+    any docs/**/*.md points to a file that does not exist, or to a heading that the
+    target markdown file does not have.
+
+Python 3 standard library only; run by ctest as `docs.check`.
+"""
+import os
+import re
+import subprocess
+import sys
+
+# An option line of the --help text written by lib/core/cli: "  -o, --output <FILE>" or
+# "      --version"; descriptions follow on lines of their own.
+HELP_OPTION = re.compile(r"^\s+(?:-[A-Za-z0-9],\s+)?--([a-z0-9][a-z0-9-]*)(?=\s|$)")
+# A markdown link or image: [text](target) with an optional "title"; reference
+# definitions "[label]: target" are read separately.
+INLINE_LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\[\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
+REFERENCE_LINK = re.compile(r"^\s{0,3}\[[^\]]+\]:\s+<?(\S+?)>?(?:\s+\"[^\"]*\")?\s*$")
+HEADING = re.compile(r"^\s{0,3}(#{1,6})\s+(.*?)\s*#*\s*$")
+SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*:")
+
+
+def help_options(program):
+    """Long option names that `program --help` lists, in order."""
+    try:
+        result = subprocess.run([program, "--help"], capture_output=True, text=True, timeout=60)
+    except OSError as e:
+        raise SystemExit(f"check_docs.py: cannot run '{program} --help': {e}")
+    if result.returncode != 0:
+        raise SystemExit(f"check_docs.py: '{program} --help' exited with {result.returncode}: {result.stderr.strip()}")
+    names = []
+    for line in result.stdout.splitlines():
+        m = HELP_OPTION.match(line)
+        if m and m.group(1) not in names:
+            names.append(m.group(1))
+    if not names:
+        raise SystemExit(f"check_docs.py: '{program} --help' lists no option; is it a granflow program?")
+    return names
+
+
+def mentions(text, option):
+    """Whether text names --option as a whole word (--time is not --time-step)."""
+    return re.search(r"(?<![A-Za-z0-9-])--" + re.escape(option) + r"(?![A-Za-z0-9-])", text) is not None
+
+
+def table_options(text):
+    """Options named in the first cell of table rows, e.g. | `--seed` | ... or | `-o, --output` | ..."""
+    found = []
+    for line in text.splitlines():
+        if not line.lstrip().startswith("|"):
+            continue
+        cells = line.strip().strip("|").split("|")
+        if not cells:
+            continue
+        for name in re.findall(r"(?<![A-Za-z0-9-])--([a-z0-9][a-z0-9-]*)", cells[0]):
+            found.append(name)
+    return found
+
+
+def strip_code(text):
+    """Text with fenced code blocks and inline code spans blanked (links there are not links)."""
+    out, fence = [], None
+    for line in text.splitlines():
+        stripped = line.lstrip()
+        if fence is None and (stripped.startswith("```") or stripped.startswith("~~~")):
+            fence = stripped[:3]
+            out.append("")
+            continue
+        if fence is not None:
+            if stripped.startswith(fence):
+                fence = None
+            out.append("")
+            continue
+        out.append(re.sub(r"(`+)(?:(?!\1).)+?\1", lambda m: " " * len(m.group(0)), line))
+    return out
+
+
+def slug(heading, seen):
+    """GitHub's anchor for a heading: lower case, punctuation dropped, spaces to hyphens,
+    -1, -2, ... appended to repeats."""
+    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", heading)  # links keep their text
+    text = re.sub(r"<[^>]+>", "", text)
+    s = re.sub(r"[^\w\- ]", "", text.lower()).replace(" ", "-")
+    n = seen.get(s, 0)
+    seen[s] = n + 1
+    return s if n == 0 else f"{s}-{n}"
+
+
+def anchors(path, cache={}):
+    if path not in cache:
+        seen, found = {}, set()
+        with open(path, encoding="utf-8") as f:
+            for line in strip_code(f.read()):
+                m = HEADING.match(line)
+                if m:
+                    found.add(slug(m.group(2), seen))
+        # Explicit anchors <a id="..."> / <a name="...">.
+        with open(path, encoding="utf-8") as f:
+            found.update(re.findall(r"<a\s+(?:id|name)=\"([^\"]+)\"", f.read()))
+        cache[path] = found
+    return cache[path]
+
+
+def markdown_files(root):
+    files = [os.path.join(root, name) for name in ("README.md", "CHANGELOG.md") if os.path.isfile(os.path.join(root, name))]
+    docs = os.path.join(root, "docs")
+    for directory, _, names in sorted(os.walk(docs)):
+        files += [os.path.join(directory, n) for n in sorted(names) if n.endswith(".md")]
+    return files
+
+
+def check_links(root, path):
+    problems, count = [], 0
+    rel = os.path.relpath(path, root)
+    with open(path, encoding="utf-8") as f:
+        lines = strip_code(f.read())
+    for number, line in enumerate(lines, 1):
+        targets = INLINE_LINK.findall(line)
+        m = REFERENCE_LINK.match(line)
+        if m:
+            targets.append(m.group(1))
+        for target in targets:
+            if SCHEME.match(target) or target.startswith("//"):
+                continue  # external: not checked here
+            count += 1
+            file_part, _, anchor = target.partition("#")
+            if file_part:
+                resolved = os.path.normpath(os.path.join(os.path.dirname(path), file_part))
+                if not os.path.exists(resolved):
+                    problems.append(f"{rel}:{number}: link '{target}' points nowhere "
+                                    f"({os.path.relpath(resolved, root)} does not exist)")
+                    continue
+                if not os.path.realpath(resolved).startswith(os.path.realpath(root) + os.sep):
+                    problems.append(f"{rel}:{number}: link '{target}' leaves the repository")
+                    continue
+            else:
+                resolved = path
+            if anchor and resolved.endswith(".md") and os.path.isfile(resolved):
+                if anchor not in anchors(resolved):
+                    problems.append(f"{rel}:{number}: link '{target}': {os.path.relpath(resolved, root)} "
+                                    f"has no heading with anchor '#{anchor}'")
+    return problems, count
+
+
+def main():
+    if len(sys.argv) != 3:
+        raise SystemExit("usage: check_docs.py REPO_ROOT BIN_DIR")
+    root, bin_dir = (os.path.abspath(a) for a in sys.argv[1:])
+    problems = []
+
+    programs = sorted(n for n in os.listdir(bin_dir)
+                      if n.startswith("gf-") and os.access(os.path.join(bin_dir, n), os.X_OK))
+    if not programs:
+        raise SystemExit(f"check_docs.py: no gf-* program in {bin_dir}")
+    pages_dir = os.path.join(root, "docs", "programs")
+    options_checked = 0
+    for program in programs:
+        page = os.path.join(pages_dir, program + ".md")
+        rel = os.path.relpath(page, root)
+        listed = help_options(os.path.join(bin_dir, program))
+        if not os.path.isfile(page):
+            problems.append(f"{program}: has no page {rel}")
+            continue
+        with open(page, encoding="utf-8") as f:
+            text = f.read()
+        for option in listed:
+            options_checked += 1
+            if not mentions(text, option):
+                problems.append(f"{rel}: does not mention option --{option}, which `{program} --help` lists")
+        for option in table_options(text):
+            if option not in listed:
+                problems.append(f"{rel}: its option table has --{option}, which `{program} --help` does not list")
+    if os.path.isdir(pages_dir):
+        for name in sorted(os.listdir(pages_dir)):
+            if name.startswith("gf-") and name.endswith(".md") and name[:-3] not in programs:
+                problems.append(f"docs/programs/{name}: no program {name[:-3]} in {bin_dir}")
+
+    links_checked = 0
+    files = markdown_files(root)
+    for path in files:
+        found, count = check_links(root, path)
+        problems += found
+        links_checked += count
+
+    for p in problems:
+        print(p)
+    summary = (f"{len(programs)} programs, {options_checked} options, {len(files)} markdown files, "
+               f"{links_checked} relative links checked")
+    if problems:
+        print(f"check_docs.py: FAILED: {len(problems)} problem(s); {summary}")
+        return 1
+    print(f"check_docs.py: OK: {summary}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
