@@ -5,8 +5,11 @@ MSER the same truncation, on many random series (AR(1), white noise, ramps, cons
 series, lengths 32..5000 and a few longer ones past numpy's 8192-value chunks)."""
 import math
 import os
+import re
 import subprocess
 import sys
+import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -189,6 +192,44 @@ class InterfaceTest(unittest.TestCase):
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
         self.assertIn("/nonexistent/build/lib/libgranflow_statistics.so", out)
         self.assertIn("make -f Makefile.sweeps build", out)
+
+
+class LibraryStampTest(unittest.TestCase):
+    """Tables made with the library are remade when its machine code changes: their make
+    rules have the library's stamp (build/stamps/libgranflow_statistics.so.stamp) as a
+    prerequisite, and nothing else is redone (SIZE=test, files faked with ordered times)."""
+
+    ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+    def test_tables_follow_the_library_stamp(self):
+        for table in ("ch4_sweep.h5", "ch4_critical_angle.h5"):
+            with self.subTest(table=table), tempfile.TemporaryDirectory() as d:
+                make = ["make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BUILD={d}/build",
+                        f"RUNS={d}/runs", f"FIGURES={d}/figures"]
+                stamps = [f"{d}/build/stamps/{p}.stamp" for p in
+                          ("gf-pack", "gf-shear", "gf-incline", "gf-correlate", "libgranflow_statistics.so")]
+                os.makedirs(f"{d}/build/stamps")
+                os.makedirs(f"{d}/runs")
+                for path in stamps:
+                    open(path, "w").close()
+                    os.utime(path, (1000, 1000))
+                target = f"{d}/runs/{table}"
+                plan = subprocess.run(make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True,
+                                      check=True).stdout
+                # Every simulation's output, in the order made; then the table, newer than the sources.
+                outputs = re.findall(r" -o (\S+)", plan)
+                self.assertEqual(outputs[-1], target, plan)
+                now = time.time()  # the table is newer than the sources, made a second ago
+                for k, path in enumerate(outputs):
+                    open(path, "w").close()
+                    t = 2000 + k if path != target else now - 1
+                    os.utime(path, (t, t))
+                self.assertEqual(subprocess.run(make + ["-q", target], cwd=self.ROOT).returncode, 0)
+                os.utime(stamps[-1], (now, now))  # the library's code changed: its stamp was rewritten
+                self.assertEqual(subprocess.run(make + ["-q", target], cwd=self.ROOT).returncode, 1)
+                plan = subprocess.run(make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True,
+                                      check=True).stdout
+                self.assertEqual(re.findall(r" -o (\S+)", plan), [target], plan)
 
 
 if __name__ == "__main__":
