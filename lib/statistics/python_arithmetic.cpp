@@ -1,18 +1,21 @@
 #include "statistics/python_arithmetic.hpp"
 
+#include <math.h>  // sqrtf128: glibc's square root in IEEE binary128
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
-// glibc's square root in IEEE binary128 (libm, x86-64).
-extern "C" __float128 sqrtf128(__float128);
+#if !(defined(__GLIBC__) && __HAVE_FLOAT128 && __GLIBC_USE(IEC_60559_TYPES_EXT))
+#error "python_hypot() needs glibc's _Float128 functions (sqrtf128)"
+#endif
 
 namespace granflow {
 
 namespace {
 
-constexpr std::size_t kChunk = 8192;     // numpy's default buffer size (np.getbufsize())
+constexpr std::size_t kChunk = 8192;         // numpy's default buffer size (np.getbufsize())
 constexpr std::size_t kPairwiseBlock = 128;  // numpy's PW_BLOCKSIZE
 
 double pairwise(const double* a, std::size_t n) {
@@ -56,7 +59,7 @@ double python_hypot(double a, double b) {
   // 60 bits below a double's; rounding the binary128 root to a double can then differ from
   // the correctly rounded result only when the exact root lies within 2⁻¹¹² (relative) of a
   // midpoint between doubles without being one.
-  const __float128 qa = a, qb = b;
+  const _Float128 qa = a, qb = b;
   return double(sqrtf128(qa * qa + qb * qb));
 }
 
