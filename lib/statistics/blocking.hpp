@@ -23,9 +23,9 @@
 // by at most 15 % when the series spans 50 integrated correlation times, 10 % at 100 and
 // 3 % beyond 1000.
 //
-// The means are numpy's pairwise sums (statistics/python_arithmetic.hpp), so that the
-// Python pipelines' tables keep their bits: every value here equals what steady_state.py
-// computed with numpy.
+// The means are numpy's pairwise sums (statistics/python_arithmetic.hpp): every value here
+// equals bit for bit the same algorithm written with numpy (pipelines/tests/test_statistics.py
+// checks it).
 #include <cstddef>
 #include <span>
 

@@ -1,7 +1,8 @@
 #pragma once
-// Arithmetic in the order and rounding of the Python analysis scripts (numpy 1.24,
-// CPython 3.11), so that the statistics they take from this library (blocking errors,
-// the halves change) keep the bits they had when computed with numpy.
+// Arithmetic in the order and rounding of numpy 1.24 and CPython 3.11, so that the
+// statistics the Python tables take from this library (blocking errors, the halves
+// change) equal bit for bit the same algorithm written with numpy (np.mean, math.hypot):
+// a table does not depend on which side computes it.
 #include <span>
 
 namespace granflow {

@@ -39,9 +39,9 @@ struct HalvesChange {
 
 // The halves of a per-row series (the middle value of an odd count in neither), each
 // half's error by blocking_error(): |change| / error is the stationarity test of the shear
-// tables (steady_state.py's halves_z). The means are numpy's (python_arithmetic.hpp), so
-// the result has the bits steady_state.py had with numpy. Throws std::invalid_argument when
-// a half has fewer than kBlockingMinSamples values.
+// tables (steady_state.py's halves_z). The means are numpy's (python_arithmetic.hpp): the
+// result equals the numpy formulation bit for bit. Throws std::invalid_argument when a half
+// has fewer than kBlockingMinSamples values.
 HalvesChange halves_change(std::span<const double> x);
 
 struct SteadyState {

@@ -13,8 +13,9 @@ that scripts importing this module only for its neighbours need no build.
   Flyvbjerg-Petersen blocking with Jonsson's plateau choice (lib/statistics/blocking.hpp).
 - halves_change(x) -> (change, error): mean of the second half minus the first, with
   blocking errors (the stationarity test of the shear tables).
-The floats are bit for bit those the former numpy implementation returned (summation in
-numpy's pairwise order, correctly rounded hypot), checked by pipelines/tests/test_statistics.py.
+The floats equal bit for bit those of the same algorithm written with numpy (the library
+sums in numpy's pairwise order and rounds hypot as math.hypot), checked by
+pipelines/tests/test_statistics.py.
 """
 import ctypes
 import os

@@ -1,8 +1,9 @@
 """pipelines/granflow_py/statistics.py (the C++ lib/statistics through ctypes) against the
-numpy implementation steady_state.py had before, kept here as the reference oracle: the
-blocking errors and the halves change must be the same floats bit for bit (assertEqual),
-MSER the same truncation, on many random series (AR(1), white noise, ramps, constant
-series, lengths 32..5000 and a few longer ones past numpy's 8192-value chunks)."""
+same algorithms written with numpy, kept here as the reference oracle: the blocking errors
+and the halves change must be the same floats bit for bit (assertEqual), MSER the same
+truncation, on many random series (AR(1), white noise, ramps, constant series, lengths
+32..5000 and a few longer ones past numpy's 8192-value chunks); and the make rules that
+remake the tables when the library changes."""
 import math
 import os
 import re
@@ -21,7 +22,7 @@ MIN_BLOCKS = 16
 TRANSIENT_BLOCKS = 100
 
 
-# ---- the former numpy implementation (steady_state.py), the oracle ----
+# ---- the algorithms written with numpy, the oracle ----
 
 def _chi2_99(dof):
     z = 2.3263478740408408
@@ -67,7 +68,7 @@ def oracle_mser_truncation(x):
 
 
 def oracle_first_row(series):
-    """The block means + MSER of the former steady_start(), as a row."""
+    """MSER on block means of numpy (mean(axis=1)), as a row."""
     rows = max(1, len(series[0]) // TRANSIENT_BLOCKS)
     blocks = len(series[0]) // rows
     d = 0
