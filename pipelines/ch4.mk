@@ -31,7 +31,8 @@ CH4_BAGNOLD_RUNS  := $(foreach r,$(CH4_BAGNOLD_RATES),$(call shear_run,$(CH4_BAG
 CH4_REFERENCE_RUN := $(firstword $(CH4_BAGNOLD_RUNS))
 CH4_TABLES        := $(RUNS)/ch4_sweep.h5 $(RUNS)/ch4_bagnold.h5
 CH4_FIGURES       := $(foreach k,1 2 3 4 5 6,$(FIGURES)/fig4_$(k).png)
-CH4_ANALYSIS      := pipelines/analysis/steady_state.py $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
+# steady_state.py takes its statistics from the shared library: its stamp is a prerequisite.
+CH4_ANALYSIS      := pipelines/analysis/steady_state.py $(GRANFLOW_PY) $(STATISTICS_STAMP) pipelines/sizes/$(SIZE).mk
 
 ch4-files: $(CH4_FIGURES) $(CH4_TABLES)
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # update-stamps.sh BIN_DIR STAMP_DIR PROGRAM...
 # Writes STAMP_DIR/<program>.stamp = SHA-256 of the program's machine code, and
-# touches it only when that hash changes. The version text (section .gfversion)
+# touches it only when that hash changes. A PROGRAM may also be a shared library
+# (BIN_DIR then its directory, <build>/lib), for the outputs of scripts that load it. The version text (section .gfversion)
 # and the linker's build-id (a hash that includes it) are stripped first, so a new
 # commit that leaves a program's code alone does not invalidate its outputs.
 set -euo pipefail

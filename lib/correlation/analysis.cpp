@@ -11,7 +11,7 @@
 #include "core/progress.hpp"
 #include "core/signals.hpp"
 #include "correlation/clusters.hpp"
-#include "correlation/jackknife.hpp"
+#include "statistics/jackknife.hpp"
 #include "statistics/steady.hpp"
 
 namespace granflow::correlation {

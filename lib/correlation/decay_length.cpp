@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <limits>
 
-#include "correlation/jackknife.hpp"
+#include "statistics/jackknife.hpp"
 
 namespace granflow::correlation {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/random.hpp"
+#include "statistics/bootstrap.hpp"
 
 namespace granflow::correlation {
 
@@ -129,19 +129,13 @@ PeakDecision decide_peak(const BlockSamples& blocks, double bandwidth, double ma
     }
   decision.mode = best * delta;
   decision.ratio = best_value > 0 ? kde.at(pooled, 0) / best_value : PeakDecision::kNaN;
-  if (blocks.size() < 2 || replicates < 1) return decision;
-
-  Rng rng(seed);
-  int agree = 0;
-  for (int r = 0; r < replicates; ++r) {
+  // The bootstrap over blocks: pooled histograms of blocks drawn with replacement.
+  decision.confidence = bootstrap_agreement(blocks.size(), replicates, seed, [&](std::span<const std::size_t> draws) {
     std::fill(pooled.begin(), pooled.end(), 0.0);
-    for (std::size_t draw = 0; draw < blocks.size(); ++draw) {
-      const auto& c = counts[std::min(blocks.size() - 1, std::size_t(rng.uniform() * double(blocks.size())))];
-      for (int k = 0; k < cells; ++k) pooled[k] += c[k];
-    }
-    agree += (rises(pooled) ? 1 : 0) == decision.peak;
-  }
-  decision.confidence = double(agree) / replicates;
+    for (std::size_t b : draws)
+      for (int k = 0; k < cells; ++k) pooled[k] += counts[b][k];
+    return (rises(pooled) ? 1 : 0) == decision.peak;
+  });
   return decision;
 }
 

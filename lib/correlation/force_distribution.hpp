@@ -4,7 +4,7 @@
 //
 // Samples come in blocks of consecutive frames (time-correlated within a block, nearly
 // independent between blocks), which give the errors: a jackknife over blocks for the
-// histogram, a bootstrap over blocks for the peak decision.
+// histogram, a bootstrap over blocks (statistics/bootstrap.hpp) for the peak decision.
 //
 // Peak decision. A Gaussian kernel density estimate with bandwidth h (in units of f),
 // reflected at f = 0 so that the boundary does not bias it:

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "statistics/blocking.hpp"
+#include "statistics/python_arithmetic.hpp"
+
 namespace granflow {
 
 namespace {
@@ -56,6 +59,13 @@ bool halves_agree(std::span<const double> x, double sigmas) {
   if (half < 2) return false;
   const MeanError a = mean_error(x.first(half)), b = mean_error(x.last(half));
   return std::fabs(a.mean - b.mean) <= sigmas * std::hypot(a.error, b.error);
+}
+
+HalvesChange halves_change(std::span<const double> x) {
+  const std::size_t half = x.size() / 2;
+  const std::span<const double> first = x.first(half), second = x.last(half);
+  const double change = numpy_mean(second) - numpy_mean(first);
+  return {change, python_hypot(blocking_error(first).error, blocking_error(second).error)};
 }
 
 SteadyState steady_from(const std::vector<std::vector<double>>& series, std::size_t first) {

@@ -1,8 +1,19 @@
 #pragma once
-// Where a run's steady state starts, from series of block means (one value per time
-// block of equal length): MSER truncation, then a check that what is left is stationary.
-// gf-incline applies it to flow rate and kinetic energy, gf-correlate (and the pipelines'
-// steady_state.py, with the same rule) to T and p of shear runs.
+// The steady-state rule, one implementation for every consumer: gf-incline (flow rate and
+// kinetic energy), gf-correlate --detect-transient (T and p of shear runs) and, through the
+// C ABI (statistics/c_api.h) and pipelines/granflow_py/statistics.py, the Python tables
+// (steady_state.py, critical_angle.py).
+//
+// The rule: MSER truncation on block means of each series, the latest truncation wins;
+// then the part kept must be stationary — the means of its first and second halves differ
+// by at most a few combined standard errors. The error estimate fits the series it is
+// given, the rule stays the same:
+// - halves_agree() takes values that are already means of blocks longer than the
+//   correlation time (gf-incline's /profiles blocks), i.e. independent values: each half's
+//   error is the plain standard error of its values.
+// - halves_change() takes one value per recorded row (the shear tables' T and p at every
+//   strain step), correlated in time: each half's error is a blocking error
+//   (statistics/blocking.hpp).
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -21,6 +32,18 @@ std::size_t mser_truncation(std::span<const double> x);
 // fewer than two values per half.
 bool halves_agree(std::span<const double> x, double sigmas = 3);
 
+struct HalvesChange {
+  double change = 0;  // mean of the second half − mean of the first
+  double error = 0;   // √(δ₁² + δ₂²), δ the blocking error of each half's mean
+};
+
+// The halves of a per-row series (the middle value of an odd count in neither), each
+// half's error by blocking_error(): |change| / error is the stationarity test of the shear
+// tables (steady_state.py's halves_z). The means are numpy's (python_arithmetic.hpp): the
+// result equals the numpy formulation bit for bit. Throws std::invalid_argument when a half
+// has fewer than kBlockingMinSamples values.
+HalvesChange halves_change(std::span<const double> x);
+
 struct SteadyState {
   std::size_t first = 0;                // first block of the steady part
   std::vector<std::size_t> truncation;  // MSER's d per series
@@ -37,7 +60,9 @@ SteadyState steady_from(const std::vector<std::vector<double>>& series, std::siz
 // First row of the steady part of per-row series (equal lengths): each is cut into
 // `blocks` blocks of max(1, rows / blocks) rows (rows left over at the end belong to
 // none), MSER picks a truncation of each one's block means, and the latest wins; returned
-// as a row (0 for an empty series).
+// as a row (0 for an empty series). gf-correlate and steady_state.py's steady_start() both
+// use it. The block means and MSER's sums are sequential sums (numpy's pairwise ones
+// differ in the last bits, which can move MSER's choice only between near-equal minima).
 std::size_t mser_first_row(const std::vector<std::vector<double>>& series, std::size_t blocks = 100);
 
 }  // namespace granflow

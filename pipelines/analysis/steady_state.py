@@ -57,6 +57,7 @@ import numpy as np
 
 from granflow_py import outputs
 from granflow_py.hdf5 import sha256
+from granflow_py import statistics
 
 ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
                 "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
@@ -146,38 +147,11 @@ def invariant_series(run):
                 "mT_over_pR2": np.where(p > 0, prm["mean_mass"] * t / (p * prm["mean_radius"] ** 2), np.nan)}
 
 
-def _chi2_99(dof):
-    """99 % quantile of chi-squared (Wilson-Hilferty; within 1 % for dof >= 1)."""
-    z = 2.3263478740408408
-    return dof * (1 - 2 / (9 * dof) + z * math.sqrt(2 / (9 * dof))) ** 3
-
-
 def blocking_error(x):
     """(standard error of mean(x), blocks at the chosen level, plateau found) by
-    Flyvbjerg-Petersen blocking with Jonsson's automatic choice of the level."""
-    x = np.asarray(x, dtype=float)
-    if len(x) < MIN_SAMPLES:
-        raise ValueError(f"blocking needs at least {MIN_SAMPLES} samples, got {len(x)}")
-    se2, n, stat = [], [], []
-    while len(x) >= 2:
-        if len(x) % 2:
-            x = x[1:]  # drop the oldest sample so the pairs stay aligned
-        m = len(x)
-        d = x - x.mean()
-        var = np.mean(d * d)
-        se2.append(var / (m - 1))
-        n.append(m)
-        # Jonsson's statistic for this level: m * (bias-corrected lag-1 autocorrelation)^2.
-        stat.append(0.0 if var == 0 else m * ((m - 1) * var / m ** 2 + np.mean(d[:-1] * d[1:])) ** 2 / var ** 2)
-        x = 0.5 * (x[0::2] + x[1::2])
-    levels = len(se2)
-    tail = np.cumsum(stat[::-1])[::-1]  # M_j = sum over levels k >= j
-    usable = max(j for j in range(levels) if n[j] >= MIN_BLOCKS)
-    for j in range(usable + 1):
-        if tail[j] < _chi2_99(levels - j):
-            j = min(j + 1, usable)  # blocks twice as long: halves the residual correlation bias
-            return math.sqrt(se2[j]), n[j], True
-    return math.sqrt(se2[usable]), n[usable], False
+    Flyvbjerg-Petersen blocking with Jonsson's automatic choice of the level
+    (lib/statistics/blocking.hpp)."""
+    return statistics.blocking_error(x)
 
 
 def estimate(series, parameters, factor, powers):
@@ -194,18 +168,8 @@ def estimate(series, parameters, factor, powers):
 
 def mser_truncation(x):
     """MSER: the d <= len(x)//2 minimising the variance of x[d:] over (len(x) - d)^2, the
-    first on ties (about the overall mean, so that a small scatter on a large mean does not
-    cancel away); 0 for fewer than 2 values."""
-    x = np.asarray(x, dtype=float)
-    n = len(x)
-    if n < 2:
-        return 0
-    d = x - x.mean()
-    s1 = np.cumsum(d[::-1])[::-1]
-    s2 = np.cumsum((d * d)[::-1])[::-1]
-    m = n - np.arange(n // 2 + 1)
-    stat = np.maximum(0.0, s2[:n // 2 + 1] - s1[:n // 2 + 1] ** 2 / m) / m ** 2
-    return int(np.argmin(stat))
+    first on ties; 0 for fewer than 2 values (lib/statistics/steady.hpp)."""
+    return statistics.mser_truncation(x)
 
 
 def steady_start(run, from_strain, detect_transient=True):
@@ -215,23 +179,14 @@ def steady_start(run, from_strain, detect_transient=True):
     if not detect_transient:
         return from_strain
     strain = run["series"]["strain"]
-    rows = max(1, len(strain) // TRANSIENT_BLOCKS)
-    blocks = len(strain) // rows
-    d = 0
-    for name in ("temperature", "pressure"):
-        x = run["series"][name][:blocks * rows].reshape(blocks, rows).mean(axis=1)
-        d = max(d, mser_truncation(x))
-    return max(from_strain, float(strain[min(d * rows, len(strain) - 1)]))
+    row = statistics.mser_first_row([run["series"]["temperature"], run["series"]["pressure"]], TRANSIENT_BLOCKS)
+    return max(from_strain, float(strain[min(row, len(strain) - 1)]))
 
 
 def halves_change(x):
     """(mean of the second half of x - mean of the first, its error), each half's error by
-    blocking (an odd count's middle value in neither half)."""
-    x = np.asarray(x, dtype=float)
-    half = len(x) // 2
-    first, second = x[:half], x[len(x) - half:]
-    return (float(np.mean(second) - np.mean(first)),
-            math.hypot(blocking_error(first)[0], blocking_error(second)[0]))
+    blocking (an odd count's middle value in neither half; lib/statistics/steady.hpp)."""
+    return statistics.halves_change(x)
 
 
 def halves_z(run, from_strain):

@@ -19,7 +19,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             stamps = os.path.join(d, "build", "stamps")
             os.makedirs(stamps)
-            for prog in ("gf-pack", "gf-shear", "gf-incline"):
+            for prog in ("gf-pack", "gf-shear", "gf-incline", "libgranflow_statistics.so"):
                 with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
                     fh.write("0\n")
             args = ["make", "-n", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test",
@@ -109,7 +109,7 @@ class Ch4InclineBranchRunTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             stamps = os.path.join(d, "stamps")
             os.makedirs(stamps)
-            for prog in ("gf-pack", "gf-shear", "gf-incline"):
+            for prog in ("gf-pack", "gf-shear", "gf-incline", "libgranflow_statistics.so"):
                 with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
                     fh.write("0\n")
             make = ["make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",

@@ -1,15 +1,14 @@
-// Force distributions and the peak decision, block jackknife, ν_bc crossings and contact
-// clusters (lib/correlation), on synthetic data with known answers.
+// Force distributions and the peak decision, ν_bc crossings and contact clusters
+// (lib/correlation), on synthetic data with known answers. The block jackknife and
+// bootstrap they use are tested in test_jackknife.cpp and test_bootstrap.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numeric>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "correlation/clusters.hpp"
 #include "correlation/force_distribution.hpp"
-#include "correlation/jackknife.hpp"
 #include "correlation/sweep.hpp"
 
 using namespace granflow;
@@ -88,34 +87,6 @@ TEST(PeakDecision, PeakedAndMonotonicDistributions) {
 TEST(PeakDecision, Degenerate) {
   EXPECT_TRUE(std::isnan(decide_peak(blocks_of(1, 1000, 7, gamma3), 0.1, 10, 200, 1).confidence));
   EXPECT_EQ(decide_peak(BlockSamples(4), 0.1, 10, 200, 1).peak, -1);
-}
-
-TEST(Jackknife, MeanOfIndependentBlocks) {
-  // For a plain mean the block jackknife is the standard error of the block means.
-  struct Sums {
-    double sum = 0, count = 0;
-    Sums& operator+=(const Sums& o) {
-      sum += o.sum;
-      count += o.count;
-      return *this;
-    }
-  };
-  Rng rng(9);
-  std::vector<Sums> blocks(16);
-  std::vector<double> means;
-  for (auto& b : blocks) {
-    for (int i = 0; i < 50; ++i) b.sum += rng.normal();
-    b.count = 50;
-    means.push_back(b.sum / 50);
-  }
-  const double mean = std::accumulate(means.begin(), means.end(), 0.0) / 16;
-  double var = 0;
-  for (double m : means) var += (m - mean) * (m - mean) / 15;
-  const auto error = jackknife_errors(blocks, [](const Sums& s) { return std::vector<double>{s.sum / s.count}; });
-  EXPECT_NEAR(error[0], std::sqrt(var / 16), 1e-12);
-  EXPECT_TRUE(std::isnan(jackknife_errors(std::vector<Sums>(1, blocks[0]), [](const Sums& s) {
-                return std::vector<double>{s.sum};
-              })[0]));
 }
 
 TEST(Sweep, CrossingInterpolatedWithPropagatedError) {

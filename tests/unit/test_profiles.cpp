@@ -1,7 +1,7 @@
 // Incline depth profiles on constructed configurations with known answers: the exact
 // area of a disk in a strip, the contact stress of a resting vertical chain split among
-// layers (it must equal the weight above, layer by layer), the mean-shear subtraction of
-// the temperature, and the steady-state detection on synthetic series.
+// layers (it must equal the weight above, layer by layer) and the mean-shear subtraction of
+// the temperature. The steady-state detection gf-incline applies is tested in test_steady.cpp.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,7 +15,6 @@
 #include "dynamics/engine.hpp"
 #include "incline/observer.hpp"
 #include "incline/profiles.hpp"
-#include "statistics/steady.hpp"
 #include "io/trajectory.hpp"
 
 namespace granflow {
@@ -214,82 +213,6 @@ TEST(ProfileBlocks, RoundTripThroughATrajectoryFile) {
   // A grid of another size is refused with the file's name.
   EXPECT_THROW(read_blocks(io::TrajectoryReader(path), "/state", profile_grid(chain.box, 0.35)), UsageError);
   std::filesystem::remove(path);
-}
-
-// ---- steady-state detection ----
-
-std::vector<double> noisy(std::size_t n, double transient, double decay, double sigma, double drift,
-                          std::uint64_t seed) {
-  Rng rng(seed);
-  std::vector<double> x(n);
-  for (std::size_t i = 0; i < n; ++i)
-    x[i] = 5 + transient * std::exp(-double(i) / decay) + drift * double(i) + sigma * rng.normal();
-  return x;
-}
-
-TEST(SteadyDetection, MserCutsTheTransient) {
-  int steady = 0;
-  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-    const auto x = noisy(200, 10, 8, 0.5, 0, seed);
-    const std::size_t d = mser_truncation(x);
-    // The transient falls below the noise after 8·ln 20 ≈ 24 blocks.
-    EXPECT_GE(d, 15u) << seed;
-    EXPECT_LE(d, 60u) << seed;
-    const SteadyState s = detect_steady({x, noisy(200, -3, 4, 0.1, 0, seed + 100)});
-    EXPECT_EQ(s.first, std::max(s.truncation[0], s.truncation[1]));
-    steady += s.steady;
-  }
-  // MSER trades the transient's bias against noise, so what it keeps can still hold a
-  // residue of about a standard error, which the 3σ halves test sometimes sees.
-  EXPECT_GE(steady, 16);
-}
-
-TEST(SteadyDetection, StationarySeriesIsKeptAndDriftIsFlagged) {
-  const auto stationary = noisy(100, 0, 1, 1, 0, 7);
-  EXPECT_LE(mser_truncation(stationary), 50u);
-  EXPECT_TRUE(detect_steady({stationary}).steady);
-  // A drift of several standard errors between the halves of whatever MSER keeps.
-  const auto drifting = noisy(100, 0, 1, 1, 0.06, 7);
-  EXPECT_FALSE(detect_steady({stationary, drifting}).steady);
-  EXPECT_LE(mser_truncation(drifting), 50u);
-  // Too short to judge.
-  EXPECT_FALSE(detect_steady({{1.0, 1.1, 0.9}}).steady);
-  EXPECT_EQ(mser_truncation(std::vector<double>{3.0}), 0u);
-}
-
-// mser_first_row: MSER on block means of per-row series, the latest truncation, as a row.
-TEST(SteadyDetection, FirstRowOfPerRowSeriesIsTheLatestBlockTruncation) {
-  // 1000 rows in 100 blocks of 10: a ramp over the first 300 rows, then constant plus a
-  // small wiggle; a second series steady from the start.
-  std::vector<double> ramp(1000), flat(1000);
-  for (std::size_t i = 0; i < 1000; ++i) {
-    ramp[i] = std::min(1.0, double(i) / 300.0) + 1e-3 * std::sin(0.7 * double(i));
-    flat[i] = 2 + 1e-3 * std::cos(0.3 * double(i));
-  }
-  const std::size_t row = mser_first_row({ramp, flat});
-  EXPECT_EQ(row % 10, 0u);
-  EXPECT_GE(row, 280u);
-  EXPECT_LE(row, 310u);
-  // It is MSER of the block means, times the block length, and the later series wins.
-  std::vector<double> means(100);
-  for (std::size_t b = 0; b < 100; ++b)
-    for (std::size_t r = 0; r < 10; ++r) means[b] += ramp[10 * b + r] / 10;
-  EXPECT_EQ(row, 10 * mser_truncation(means));
-  EXPECT_EQ(mser_first_row({flat, ramp}), row);
-  // Rows left over past the last whole block belong to none: 1009 rows, the same blocks.
-  ramp.resize(1009, 1.0);
-  flat.resize(1009, 2.0);
-  EXPECT_EQ(mser_first_row({ramp, flat}), row);
-  // Fewer rows than blocks: a block per row.
-  EXPECT_EQ(mser_first_row({{0.0, 1.0, 1.1, 0.9, 1.05, 0.95}}), 1u);
-  EXPECT_EQ(mser_first_row({}), 0u);
-}
-
-TEST(SteadyDetection, ChosenStartIsCheckedToo) {
-  const auto x = noisy(200, 10, 8, 0.5, 0, 3);
-  EXPECT_FALSE(steady_from({x}, 0).steady);  // the transient is in the first half
-  EXPECT_TRUE(steady_from({x}, 80).steady);
-  EXPECT_EQ(steady_from({x}, 80).first, 80u);
 }
 
 }  // namespace

@@ -1,13 +1,15 @@
 #pragma once
 // Block jackknife: errors of estimators that are nonlinear in sums over frames (ratios
-// such as C = Σw/W or ξ = Σw/Σ(w/ℓ)). Frames are grouped into consecutive blocks longer
-// than the correlation time; the estimator is recomputed with each block left out, and
+// such as gf-correlate's C = Σw/W or ξ = Σw/Σ(w/ℓ)), where blocking a series of values
+// (statistics/blocking.hpp) does not apply: a ratio of sums has no per-frame value to
+// block. Frames are grouped into consecutive blocks longer than the correlation time; the
+// estimator is recomputed with each block left out, and
 //   error² = (B − 1)/B · Σ_b (x_(b) − x̄)²,   x̄ = mean of the x_(b).
 #include <cmath>
 #include <limits>
 #include <vector>
 
-namespace granflow::correlation {
+namespace granflow {
 
 // Per component of estimate(sums) (a std::vector<double>): the jackknife standard error
 // over blocks; NaN with fewer than two blocks or where a leave-one-out value is NaN.
@@ -35,4 +37,4 @@ std::vector<double> jackknife_errors(const std::vector<Sums>& blocks, const Esti
   return error;
 }
 
-}  // namespace granflow::correlation
+}  // namespace granflow
