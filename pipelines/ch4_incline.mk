@@ -12,8 +12,8 @@
 # height makes a new start and so re-runs.
 # Branched runs: $(RUNS)/incline_branch_th<θ>_e<e>_mu<μ>_s<seed>_from<θp>.h5, gf-incline at θ and μ from
 # the last frame of the μ = 0 run $(RUNS)/incline_th<θp>_e<e>_mu0.00_s<seed>.h5 (a dense layer
-# already flowing: the frictional collapse from the dilute start is the dear part, see the
-# README), for INCLINE_BRANCH_TIME τ at INCLINE_BRANCH_TIME_STEP with solver tolerance
+# already flowing: the frictional collapse from the dilute start is the dear part, see
+# docs/results/chapter4.md, Incline), for INCLINE_BRANCH_TIME τ at INCLINE_BRANCH_TIME_STEP with solver tolerance
 # INCLINE_BRANCH_TOLERANCE (empty: gf-incline's default), averaged from INCLINE_BRANCH_FROM_TIME τ
 # (empty: MSER). The parent is a prerequisite, so a change of the parent re-runs the branch. (A
 # rule of its own: make does not chain one pattern rule twice, so a parent outside the grids

@@ -68,7 +68,7 @@ def steady_start_note(table):
             + f". Runs last strain {strain.min():g}–{strain.max():g}; {len(late)} of {len(start)} start later than "
             f"{from_strain:g} (up to {start.max():.3g}). Error bars are those of each run's time average (blocking): "
             "they leave out the spread between packings at the same ν, which in dilute flows can be several times "
-            "larger (README, “Paper size, e = 0”).")
+            "larger (docs/results/chapter4.md, “Paper size”).")
     if "stationary" in runs:
         bad = [i for i in range(len(start)) if not runs["stationary"][i]]
         text += (f" ‡ marks a run whose steady part is not stationary (the means of T or p over its halves differ by "

@@ -57,7 +57,7 @@ CH4_FRICTION_E    := 0.50
 # μ = 0 shear runs at e = CH4_FRICTION_E bracketing the incline's bulk ν (0.81-0.83 at 10-14°).
 CH4_INCLINE_NU    := 0.810 0.825
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
-# grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. TIMING: see README (gf-incline, quick size).
+# grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. Cost: docs/performance.md, gf-incline.
 INCLINE_WIDTH           := 40
 INCLINE_HEIGHT          := 25
 INCLINE_SEED            := 1
@@ -70,7 +70,7 @@ INCLINE_ANGLES_MU0      := 10 12 14
 # per 400 τ run); the branch skips the collapse and the slow acceleration, the layer dilates
 # to its frictional ν within ~5 τ. The dense frictional flow itself still needs ~900-1000
 # sweeps per step at the tolerance 1e-10 (1e-8 only saves 26 % and leaves steps at the sweep
-# limit), so the runs are short: 100 τ at 5e-3 τ, averaged from 30 τ. TIMING: see README.
+# limit), so the runs are short: 100 τ at 5e-3 τ, averaged from 30 τ. Cost: docs/results/chapter4.md, μ = 0.4.
 INCLINE_ANGLES_MU04     := 19 20 21
 INCLINE_MU04_PARENT     := 14
 INCLINE_BRANCH_TIME     := 100
