@@ -29,8 +29,8 @@
 #include <utility>
 
 #include "dynamics/engine.hpp"
-#include "dynamics/observables.hpp"
 #include "packing/packing.hpp"
+#include "shear/observables.hpp"
 
 namespace {
 

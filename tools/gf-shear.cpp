@@ -10,7 +10,7 @@
 #include "io/provenance.hpp"
 #include "run/frames.hpp"
 #include "run/runner.hpp"
-#include "run/shear.hpp"
+#include "shear/shear.hpp"
 
 using namespace granflow;
 
