@@ -97,7 +97,10 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
   if (checkpoint.signature != plan.signature)
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" + checkpoint.signature +
                      "); run without --resume to start over");
-  if (!std::filesystem::exists(out.temp_path()))
+  // OutputFile's writability test creates the temporary when it is missing; a partial
+  // trajectory is never empty (it has at least the HDF5 superblock).
+  std::error_code ec;
+  if (!std::filesystem::exists(out.temp_path()) || std::filesystem::file_size(out.temp_path(), ec) == 0)
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' has no partial trajectory '" + out.temp_path() +
                      "' beside it; run without --resume to start over");
   return checkpoint;

@@ -29,8 +29,8 @@ SolverSettings solver_option(const CommandLine& cli);
 // --frame-every, --observe-every (default observe_every), --checkpoint-every, --resume.
 void add_run_options(CommandLine& cli, const std::string& observe_every);
 
-// The options that define the run (all but the ones about this session: --resume,
-// --checkpoint-every): a resumed run must be given the same.
+// The options that define the run (all but the ones about this invocation: --resume,
+// --checkpoint-every, --threads): a resumed run must be given the same.
 std::string run_signature(const CommandLine& cli);
 
 // The time loop's plan from the run options (validated): observables, frames,
