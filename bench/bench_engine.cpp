@@ -29,8 +29,8 @@
 #include <utility>
 
 #include "dynamics/engine.hpp"
-#include "dynamics/observables.hpp"
 #include "packing/packing.hpp"
+#include "shear/observables.hpp"
 
 namespace {
 
@@ -216,7 +216,7 @@ BENCHMARK(BM_Threads)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 // Threads in steady state at N = 10⁵ (2 strain units of warm-up, as BM_Shear's steady
-// cases; 0.5 until 2026-11-24), μ = 0, and μ = 0.4 from rest.
+// cases), μ = 0, and μ = 0.4 from rest.
 BENCHMARK(BM_Speedup)
     ->Args({100000, 800, 0, 10, 2000, 30, 3})
     ->Args({100000, 800, 40, 10, 0, 3, 2})

@@ -27,10 +27,52 @@ if(NOT FFTW3_FOUND)
   endif()
 endif()
 
+# OpenMP: the engine's optional threads (SolverSettings::threads, default 1). GCC's
+# runtime is libgomp; Clang's is libomp.
+find_package(OpenMP QUIET COMPONENTS CXX)
+if(NOT OpenMP_CXX_FOUND)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    list(APPEND _granflow_missing libomp-dev)
+  else()
+    list(APPEND _granflow_missing libgomp1)
+  endif()
+endif()
+
 if(GRANFLOW_TESTS)
   find_package(GTest QUIET)
   if(NOT GTest_FOUND)
     list(APPEND _granflow_missing libgtest-dev)
+  endif()
+  # The Python tests (analysis and figure scripts, the docs check) run with this interpreter
+  # (Python3_EXECUTABLE). The first python3 on PATH may lack the modules the scripts import
+  # (a pyenv or virtualenv one): without -DPython3_EXECUTABLE=..., take the first python3
+  # on PATH that has them, else the first one, which then names the packages to install.
+  set(_granflow_python_modules numpy h5py matplotlib)
+  if(NOT Python3_EXECUTABLE AND CMAKE_VERSION VERSION_GREATER_EQUAL 3.25)
+    function(_granflow_python_has_modules result candidate)
+      list(JOIN _granflow_python_modules ", " _imports)
+      execute_process(COMMAND ${candidate} -c "import ${_imports}"
+                      RESULT_VARIABLE _rc OUTPUT_QUIET ERROR_QUIET)
+      if(NOT _rc EQUAL 0)
+        set(${result} FALSE PARENT_SCOPE)
+      endif()
+    endfunction()
+    find_program(GRANFLOW_PYTHON3 NAMES python3 VALIDATOR _granflow_python_has_modules NO_CACHE)
+    if(GRANFLOW_PYTHON3)
+      set(Python3_EXECUTABLE ${GRANFLOW_PYTHON3} CACHE FILEPATH "Python 3 interpreter of the Python tests")
+    endif()
+  endif()
+  find_package(Python3 QUIET COMPONENTS Interpreter)
+  if(NOT Python3_Interpreter_FOUND)
+    list(APPEND _granflow_missing python3)
+  else()
+    foreach(_module ${_granflow_python_modules})
+      execute_process(COMMAND ${Python3_EXECUTABLE} -c "import ${_module}"
+                      RESULT_VARIABLE _rc OUTPUT_QUIET ERROR_QUIET)
+      if(NOT _rc EQUAL 0)
+        list(APPEND _granflow_missing python3-${_module})
+      endif()
+    endforeach()
   endif()
 endif()
 if(GRANFLOW_TESTS)

@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
                     "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
                     "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak) over --blocks\n"
                     "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
-                    "diameter sigma of the first run. Output: one HDF5 file, one row per run (see the README).");
+                    "diameter sigma of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
     cli.option("output", 'o', "FILE", "output HDF5 file");
     cli.option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");

@@ -10,7 +10,6 @@
 #include "incline/observer.hpp"
 #include "incline/start.hpp"
 #include "io/provenance.hpp"
-#include "run/frames.hpp"
 #include "run/runner.hpp"
 
 using namespace granflow;
@@ -102,51 +101,45 @@ int main(int argc, char** argv) {
     plan.after_step = [&](const Engine& e) { sample_incline(e, profiles); };
     plan.checkpoint_extra = [&](io::TrajectoryWriter& w) { write_blocks(w, kBlocks, profiles); };
 
+    const RunStart run_start{
+        .grains = start.grains,
+        .box = start.box,
+        .contacts = start.contacts,
+        .rate = 0.0,
+        .gravity = gravity,
+        .material = material,
+        .settings = settings,
+        .dt = dt,
+        .input_path = input_path,
+        .add_parameters =
+            [&](io::Parameters& parameters) {
+              io::add_input_frame(parameters, input, start.frame_index, start.frame_step, start.frame_time);
+              parameters.set("mean_radius", start.mean_radius);
+              parameters.set("mean_mass", start.mean_mass);
+              parameters.set("tau", tau);
+              parameters.set("dt", dt);
+              parameters.set("grains", std::int64_t(start.grains.size() - start.base_grains));
+              parameters.set("base_grains", std::int64_t(start.base_grains));
+              parameters.set("total_steps", std::int64_t(steps));
+              parameters.set("gravity_x", gravity.x());
+              parameters.set("gravity_y", gravity.y());
+              parameters.set("profile_bin_length", profiles.grid().bin);
+            },
+        // The profiles accumulated so far, which plan.checkpoint_extra wrote.
+        .restore =
+            [&](const io::TrajectoryReader& checkpoint) {
+              profiles.restore(read_blocks(checkpoint, kBlocks, profiles.grid()));
+            },
+    };
+
     OutputFile out(cli.text("output"), /*resumable=*/true);
-    const std::optional<Checkpoint> resume_from = resume_point(cli, plan, out);
-
-    RunStats stats;
-    std::optional<Engine> engine;
-    std::optional<io::TrajectoryWriter> writer;
-    if (resume_from) {
-      engine.emplace(grains_of(resume_from->frame, resume_from->grains), resume_from->frame.box, 0.0, material,
-                     settings, dt, gravity);
-      engine->restore(resume_from->step, memory_of(resume_from->frame.contacts));
-      profiles.restore(read_blocks(io::TrajectoryReader(plan.checkpoint_path), kBlocks, profiles.grid()));
-      stats = resume_from->stats;
-      writer.emplace(reopen_output(*resume_from, out));
-    } else {
-      engine.emplace(start.grains, start.box, 0.0, material, settings, dt, gravity);
-      engine->restore(0, memory_of(start.contacts));
-      io::Parameters parameters = io::provenance(cli);
-      io::add_input(parameters, input_path);
-      io::add_input_frame(parameters, input, start.frame_index, start.frame_step, start.frame_time);
-      parameters.set("mean_radius", start.mean_radius);
-      parameters.set("mean_mass", start.mean_mass);
-      parameters.set("tau", tau);
-      parameters.set("dt", dt);
-      parameters.set("grains", std::int64_t(start.grains.size() - start.base_grains));
-      parameters.set("base_grains", std::int64_t(start.base_grains));
-      parameters.set("total_steps", std::int64_t(steps));
-      parameters.set("gravity_x", gravity.x());
-      parameters.set("gravity_y", gravity.y());
-      parameters.set("profile_bin_length", profiles.grid().bin);
-      writer.emplace(out.temp_path());
-      writer->write_parameters(parameters);
-      writer->write_grains(properties_of(start.grains), start.box);
-      io::Frame first = frame_of(*engine, 0, 0.0);
-      first.contacts = start.contacts;
-      first.has_contacts = start.contacts.size() > 0;
-      writer->append_frame(first);
-      stats.frames_written = 1;
-    }
-
-    stats = run_resumable(*engine, *writer, out, plan, stats, record_incline_observables);
+    StartedRun run = start_or_resume(cli, plan, out, run_start);
+    const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_incline_observables);
     const std::optional<double> from_time = from_tau ? std::optional<double>(*from_tau * tau) : std::nullopt;
     const ProfileAnalysis analysis = analyse_profiles(profiles, units, from_time);
-    write_profiles(*writer, profiles, analysis, units);
+    write_profiles(run.writer, profiles, analysis, units);
     report_steady("gf-incline", profiles, analysis, units, plan.quiet);
-    finish_run(cli, *writer, out, *engine, stats, plan);
+    finish_run(cli, run.writer, out, run.engine, stats, plan);
     return 0;
   });
 }

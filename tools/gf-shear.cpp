@@ -2,15 +2,12 @@
 // (thesis §4.1–4.2, App. A), from a packing or a stored frame of a trajectory.
 #include <cmath>
 #include <numeric>
-#include <optional>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
 #include "core/tool.hpp"
-#include "io/provenance.hpp"
-#include "run/frames.hpp"
 #include "run/runner.hpp"
-#include "run/shear.hpp"
+#include "shear/shear.hpp"
 
 using namespace granflow;
 
@@ -82,45 +79,35 @@ int main(int argc, char** argv) {
     set_length(plan, steps);
     plan.strain_per_step = rate * dt;
 
+    const RunStart run_start{
+        .grains = start.grains,
+        .box = start.box,
+        .contacts = start.contacts,
+        .rate = rate,
+        .gravity = Vec2::Zero(),
+        .material = material,
+        .settings = settings,
+        .dt = dt,
+        .input_path = input_path,
+        .add_parameters =
+            [&](io::Parameters& parameters) {
+              parameters.set("packing_fraction",
+                             std::accumulate(g.radius.begin(), g.radius.end(), 0.0,
+                                             [](double a, double r) { return a + M_PI * r * r; }) /
+                                 start.box.area());
+              parameters.set("mean_radius", mean_radius);
+              parameters.set("mean_mass", mean_mass);
+              parameters.set("dt", dt);
+              parameters.set("grains", std::int64_t(g.size()));
+              parameters.set("total_steps", std::int64_t(steps));
+            },
+        .restore = {},  // nothing of its own in the checkpoints
+    };
+
     OutputFile out(cli.text("output"), /*resumable=*/true);
-    const std::optional<Checkpoint> resume_from = resume_point(cli, plan, out);
-
-    RunStats stats;
-    std::optional<Engine> engine;
-    std::optional<io::TrajectoryWriter> writer;
-    if (resume_from) {
-      engine.emplace(grains_of(resume_from->frame, resume_from->grains), resume_from->frame.box, rate, material,
-                     settings, dt);
-      engine->restore(resume_from->step, memory_of(resume_from->frame.contacts));
-      stats = resume_from->stats;
-      writer.emplace(reopen_output(*resume_from, out));
-    } else {
-      engine.emplace(start.grains, start.box, rate, material, settings, dt);
-      engine->restore(0, memory_of(start.contacts));
-      io::Parameters parameters = io::provenance(cli);
-      io::add_input(parameters, input_path);
-      parameters.set("packing_fraction",
-                     std::accumulate(g.radius.begin(), g.radius.end(), 0.0,
-                                     [](double a, double r) { return a + M_PI * r * r; }) /
-                         start.box.area());
-      parameters.set("mean_radius", mean_radius);
-      parameters.set("mean_mass", mean_mass);
-      parameters.set("dt", dt);
-      parameters.set("grains", std::int64_t(g.size()));
-      parameters.set("total_steps", std::int64_t(steps));
-      writer.emplace(out.temp_path());
-      writer->write_parameters(parameters);
-      writer->write_grains(properties_of(g), start.box);
-      writer->set_lees_edwards_rate(rate);
-      io::Frame first = frame_of(*engine, 0, 0.0);
-      first.contacts = start.contacts;
-      first.has_contacts = start.contacts.size() > 0;
-      writer->append_frame(first);
-      stats.frames_written = 1;
-    }
-
-    stats = run_resumable(*engine, *writer, out, plan, stats, record_shear_observables);
-    finish_run(cli, *writer, out, *engine, stats, plan);
+    StartedRun run = start_or_resume(cli, plan, out, run_start);
+    const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_shear_observables);
+    finish_run(cli, run.writer, out, run.engine, stats, plan);
     return 0;
   });
 }

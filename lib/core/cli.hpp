@@ -1,6 +1,6 @@
 #pragma once
 // Command-line parsing shared by every gf-* program, so that an option keeps one
-// spelling and one meaning everywhere (DESIGN.md "Names every program shares").
+// spelling and one meaning everywhere (docs/file-format.md, Names and units).
 // Every error is a UsageError naming the option; --help lists every option with
 // its default.
 #include <optional>

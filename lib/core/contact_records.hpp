@@ -1,6 +1,6 @@
 #pragma once
 // The contacts of one step or stored frame, one row each: what the engine reports and
-// what /particles/grains/contacts holds (DESIGN.md), in one type so that neither side
+// what /particles/grains/contacts holds (docs/file-format.md, Contacts), in one type so that neither side
 // converts.
 #include <array>
 #include <cstdint>

@@ -1,5 +1,6 @@
 #pragma once
-// Errors carry the exit code the tools must return (DESIGN.md: 1 runtime, 2 bad usage/input).
+// Errors carry the exit code the tools must return (docs/file-format.md, Exit codes: 1 runtime,
+// 2 bad usage/input).
 #include <stdexcept>
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
 // A one-line progress bar on stderr: fraction done, rate, ETA and a free-form status.
-// Silent when stderr is not a terminal or when quiet (DESIGN.md).
+// Silent when stderr is not a terminal or when quiet (docs/file-format.md, Messages).
 #include <chrono>
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
 // The common shell of every gf-* main(): exceptions become one clear line on stderr
-// and the exit codes of DESIGN.md (0 ok, 1 runtime failure, 2 bad usage/input).
+// and the exit codes of docs/file-format.md (0 ok, 1 runtime failure, 2 bad usage/input).
 #include <functional>
 
 namespace granflow {

@@ -1,5 +1,5 @@
 #pragma once
-// gf-correlate's output file (DESIGN.md "Analysis outputs"). R input runs, B radial bins,
+// gf-correlate's output file (docs/file-format.md, gf-correlate table). R input runs, B radial bins,
 // K sectors, M map bins per axis, F force bins, G (e, μ) series of the sweep:
 //
 //   /parameters         provenance: every option, command line, program, version,

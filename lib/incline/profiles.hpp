@@ -17,7 +17,7 @@
 //   (circular segments) over Lx·Δy.
 // Stress components follow eq. 2.2: Σ_αβ is the flux of α-momentum along β, so the
 // contact part of Σ_xy is F_x b_y: what carries x-momentum through horizontal lines.
-// It is the transpose of σ⊗F in dynamics/observables.hpp (the same for frictionless
+// It is the transpose of σ⊗F in shear/observables.hpp (the same for frictionless
 // grains, and in a time average with friction, where torques balance). Compression is
 // positive; p = (Σxx + Σyy)/2 and the shear stress s = −Σxy is positive for flow down
 // the slope.

@@ -53,8 +53,9 @@ struct AnalysisWriter::Impl {
   }
 
   static void attributes(hid_t loc, const Parameters& values) {
+    // name captured explicitly: Clang before 16 cannot capture a structured binding.
     for (const auto& [name, value] : values.items())
-      std::visit([&](const auto& v) { write_attribute(loc, name, v); }, value);
+      std::visit([&, &name = name](const auto& v) { write_attribute(loc, name, v); }, value);
   }
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Analysis outputs (DESIGN.md "Analysis outputs"): small HDF5 files of named datasets,
+// Analysis outputs (docs/file-format.md, Analysis tables): small HDF5 files of named datasets,
 // each with `meaning` and `units` attributes, and the provenance in /parameters.
 // Paths are absolute ("/correlation/xi"); missing parent groups are created.
 // Errors are RuntimeFailures naming the file and the object.

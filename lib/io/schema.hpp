@@ -1,6 +1,6 @@
 #pragma once
 // The trajectory layout shared by the writer and the reader, in one place, so the two
-// cannot drift apart (DESIGN.md "Names every program shares").
+// cannot drift apart (docs/file-format.md, Names and units).
 #include <string>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #pragma once
-// Trajectory and packing files: HDF5 in the H5MD 1.1 layout of DESIGN.md ("Data" and
-// "Names every program shares"). A packing is a trajectory with one frame.
+// Trajectory and packing files: HDF5 in the H5MD 1.1 layout of docs/file-format.md
+// (Trajectory files; Names and units). A packing is a trajectory with one frame.
 //
 //   /h5md                          version [1,1], author, creator
 //   /parameters                    one attribute per parameter + provenance

@@ -175,8 +175,9 @@ void TrajectoryWriter::write_parameters(const Parameters& parameters) {
 void TrajectoryWriter::write_attributes(const std::string& group_path, const Parameters& values) {
   hid_t file = impl_->id();
   Group group = exists(file, group_path) ? open_group(file, group_path) : create_group(file, group_path);
+  // name captured explicitly: Clang before 16 cannot capture a structured binding.
   for (const auto& [name, value] : values.items())
-    std::visit([&](const auto& v) { write_attribute(group.get(), name, v); }, value);
+    std::visit([&, &name = name](const auto& v) { write_attribute(group.get(), name, v); }, value);
 }
 
 void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& box) {
@@ -307,7 +308,7 @@ void TrajectoryWriter::write_array(const std::string& path, const std::vector<st
   write_dataset(file, path, {dims.begin(), dims.end()}, values.data());
   Dataset dataset = open_dataset(file, path);
   for (const auto& [name, value] : attributes.items())
-    std::visit([&](const auto& v) { write_attribute(dataset.get(), name, v); }, value);
+    std::visit([&, &name = name](const auto& v) { write_attribute(dataset.get(), name, v); }, value);
 }
 
 void TrajectoryWriter::flush() {

@@ -1,5 +1,5 @@
 #pragma once
-// Packings on disk: a one-frame H5MD trajectory (DESIGN.md) whose grains are at rest,
+// Packings on disk: a one-frame H5MD trajectory (docs/file-format.md, Trajectory files) whose grains are at rest,
 // with the packing's own results as one-row observables at step 0:
 // packing_fraction, max_overlap (absolute length), minimiser_iterations, wall_seconds.
 #include <string>

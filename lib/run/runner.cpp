@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "io/provenance.hpp"
+#include "run/frames.hpp"
 
 namespace granflow {
 
@@ -95,7 +97,10 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
   if (checkpoint.signature != plan.signature)
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" + checkpoint.signature +
                      "); run without --resume to start over");
-  if (!std::filesystem::exists(out.temp_path()))
+  // OutputFile's writability test creates the temporary when it is missing; a partial
+  // trajectory is never empty (it has at least the HDF5 superblock).
+  std::error_code ec;
+  if (!std::filesystem::exists(out.temp_path()) || std::filesystem::file_size(out.temp_path(), ec) == 0)
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' has no partial trajectory '" + out.temp_path() +
                      "' beside it; run without --resume to start over");
   return checkpoint;
@@ -104,6 +109,33 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
 io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFile& out) {
   return io::TrajectoryWriter::reopen_for_append(out.temp_path(), std::size_t(checkpoint.stats.frames_written),
                                                  checkpoint.step);
+}
+
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
+                           const RunStart& start) {
+  if (const std::optional<Checkpoint> checkpoint = resume_point(cli, plan, out)) {
+    Engine engine(grains_of(checkpoint->frame, checkpoint->grains), checkpoint->frame.box, start.rate,
+                  start.material, start.settings, start.dt, start.gravity);
+    engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
+    if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
+    return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};
+  }
+  Engine engine(start.grains, start.box, start.rate, start.material, start.settings, start.dt, start.gravity);
+  engine.restore(0, memory_of(start.contacts));
+  io::Parameters parameters = io::provenance(cli);
+  io::add_input(parameters, start.input_path);
+  if (start.add_parameters) start.add_parameters(parameters);
+  io::TrajectoryWriter writer(out.temp_path());
+  writer.write_parameters(parameters);
+  writer.write_grains(properties_of(start.grains), start.box);
+  if (start.box.periodic_y) writer.set_lees_edwards_rate(start.rate);
+  io::Frame first = frame_of(engine, 0, 0.0);
+  first.contacts = start.contacts;
+  first.has_contacts = start.contacts.size() > 0;
+  writer.append_frame(first);
+  RunStats stats;
+  stats.frames_written = 1;
+  return StartedRun{std::move(engine), std::move(writer), stats};
 }
 
 RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile& out, const RunPlan& plan,

@@ -2,15 +2,18 @@
 // What every Contact Dynamics runner (gf-shear, gf-incline) shares around the time loop
 // of run/driver.hpp: the contact-law and solver options, the run options (frames,
 // observables, checkpoints, --resume) with one spelling and meaning, the signature a
-// resumed run must match, finding the checkpoint to resume from, and handing the
-// output over at the end.
+// resumed run must match, starting a run or resuming it from its checkpoint, and handing
+// the output over at the end.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
+#include "core/vec.hpp"
 #include "dynamics/engine.hpp"
+#include "io/trajectory.hpp"
 #include "run/checkpoint.hpp"
 #include "run/driver.hpp"
 
@@ -26,8 +29,8 @@ SolverSettings solver_option(const CommandLine& cli);
 // --frame-every, --observe-every (default observe_every), --checkpoint-every, --resume.
 void add_run_options(CommandLine& cli, const std::string& observe_every);
 
-// The options that define the run (all but the ones about this session: --resume,
-// --checkpoint-every): a resumed run must be given the same.
+// The options that define the run (all but the ones about this invocation: --resume,
+// --checkpoint-every, --threads): a resumed run must be given the same.
 std::string run_signature(const CommandLine& cli);
 
 // The time loop's plan from the run options (validated): observables, frames,
@@ -43,6 +46,44 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
 
 // The partial trajectory of a checkpointed run, reopened after its last checkpoint.
 io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFile& out);
+
+// What a program gives start_or_resume: the engine's set-up, the start state, and its own
+// parts of a new output and of a resume.
+struct RunStart {
+  GrainState grains;  // the start state: a packing or a stored frame
+  Box box;
+  // Contacts of that frame (empty for a packing): the warm start of the first step and
+  // the contacts of the run's first frame.
+  io::ContactRecords contacts;
+  double rate = 0;  // γ̇ of the engine and of the Lees–Edwards images (box periodic in y)
+  Vec2 gravity = Vec2::Zero();
+  Material material;
+  SolverSettings settings;
+  double dt = 0;
+  std::string input_path;  // recorded in /parameters (io::add_input)
+  // Adds the program's own values to /parameters of a new output, after the provenance
+  // and the input. Optional.
+  std::function<void(io::Parameters&)> add_parameters;
+  // On a resume: restores the program's own state from the checkpoint file, where
+  // RunPlan::checkpoint_extra wrote it (e.g. gf-incline's profiles). Optional.
+  std::function<void(const io::TrajectoryReader& checkpoint)> restore;
+};
+
+// An engine and its output, ready for run_resumable.
+struct StartedRun {
+  Engine engine;
+  io::TrajectoryWriter writer;
+  RunStats stats;
+};
+
+// With --resume and a checkpoint (resume_point): the engine at the checkpoint's state
+// and step, its warm start, the program's state (start.restore), the statistics so far
+// and the reopened partial output. Otherwise: the engine at start.grains with the warm
+// start of start.contacts, and a new output at out.temp_path() holding /parameters
+// (provenance, input, start.add_parameters), the grains, the Lees–Edwards rate (box
+// periodic in y) and the first frame (step 0, with start.contacts).
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
+                           const RunStart& start);
 
 // run_steps for a resumable output: on a signal the partial output and the checkpoint
 // are kept (and Interrupted is rethrown); on any other failure the checkpoint goes

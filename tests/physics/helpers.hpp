@@ -1,6 +1,8 @@
 #pragma once
 // Shared set-ups for the physics tests: packings built here (not by gf-pack), energies
 // and momenta computed independently of the engine.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -103,6 +105,16 @@ inline double min_gap(const GrainState& s, const Box& box) {
     for (std::size_t j = i + 1; j < s.size(); ++j)
       g = std::min(g, box.minimum_image(s.position[i] - s.position[j]).norm() - s.radius[i] - s.radius[j]);
   return g;
+}
+
+// Bit-for-bit equality of two grain states (positions, velocities, spins).
+inline void expect_same_state(const GrainState& a, const GrainState& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t g = 0; g < a.size(); ++g) {
+    ASSERT_EQ(a.position[g], b.position[g]) << "grain " << g;
+    ASSERT_EQ(a.velocity[g], b.velocity[g]) << "grain " << g;
+    ASSERT_EQ(a.angular_velocity[g], b.angular_velocity[g]) << "grain " << g;
+  }
 }
 
 }  // namespace granflow::test

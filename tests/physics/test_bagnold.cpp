@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "dynamics/engine.hpp"
-#include "dynamics/observables.hpp"
 #include "helpers.hpp"
 #include "packing/packing.hpp"
+#include "shear/observables.hpp"
 
 namespace granflow {
 namespace {

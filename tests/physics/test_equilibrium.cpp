@@ -6,8 +6,8 @@
 #include <iostream>
 
 #include "dynamics/engine.hpp"
-#include "dynamics/observables.hpp"
 #include "helpers.hpp"
+#include "shear/observables.hpp"
 
 namespace granflow {
 namespace {

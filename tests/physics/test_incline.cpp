@@ -73,7 +73,7 @@ TEST(InclineMomentumBalance, SteadyFlowCarriesTheWeightAboveEachLayer) {
   const double c = std::cos(theta * M_PI / 180), s = std::sin(theta * M_PI / 180);
   // The balance holds for the time average up to the change of the momentum above each line
   // over the window, which fluctuates from run to run with the round-off history (over
-  // 50 τ one engine's run had a shear ratio off by 3.2 %, about one standard error):
+  // 50 τ a shear ratio can be off by 3 %, about one standard error):
   // averaged over 200 τ, each ratio is held to 2 % or 3 standard errors of the mean of its
   // 10 τ blocks, whichever is larger (3–4.5 % for the shear ratios).
   const auto& blocks = run.profiles.blocks();

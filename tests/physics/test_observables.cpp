@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "dynamics/observables.hpp"
+#include "shear/observables.hpp"
 
 namespace granflow {
 namespace {

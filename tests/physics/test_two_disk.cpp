@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "dynamics/engine.hpp"
@@ -172,7 +173,12 @@ INSTANTIATE_TEST_SUITE_P(
                       Oblique{0.1, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "slide"},
                       Oblique{2.0, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "stick"},
                       Oblique{0.3, 0.4, Vec2(-1.0, 0.0), Vec2(0.0, 0.0), 0.5, 0.2, "stick"},
-                      Oblique{0.0, 0.0, Vec2(-1.0, 0.7), Vec2(0.3, 0.0), 2.0, 0.0, "none"}));
+                      Oblique{0.0, 0.0, Vec2(-1.0, 0.7), Vec2(0.3, 0.0), 2.0, 0.0, "none"}),
+    // Named by index and outcome: GoogleTest's default name prints the struct's bytes,
+    // padding and the string's address included, which change from build to build.
+    [](const ::testing::TestParamInfo<Oblique>& param_info) {
+      return std::to_string(param_info.index) + "_" + param_info.param.expect;
+    });
 
 // Rolling without slip at the contact point (u_t = 0): no tangential impulse whatever μ.
 // Fails if the sign of the spin term in u_t is wrong.

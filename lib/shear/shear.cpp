@@ -1,11 +1,11 @@
-#include "run/shear.hpp"
+#include "shear/shear.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
-#include "dynamics/observables.hpp"
 #include "run/frames.hpp"
+#include "shear/observables.hpp"
 
 namespace granflow {
 namespace {

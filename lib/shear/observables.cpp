@@ -1,4 +1,4 @@
-#include "dynamics/observables.hpp"
+#include "shear/observables.hpp"
 
 namespace granflow {
 

@@ -1,30 +1,22 @@
-// Lees–Edwards minimum image and cell lists against brute-force searches over images.
+// The cell list (neighbours/cell_list.hpp) against brute-force searches over the images of a
+// Lees–Edwards or open box. The engine's reusable pair list is tested in
+// tests/physics/test_cell_list.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/random.hpp"
 #include "geometry/box.hpp"
 #include "neighbours/cell_list.hpp"
+#include "unit/brute_images.hpp"
 
 using namespace granflow;
+using granflow::testing::brute_minimum_image;
 
 namespace {
-// Shortest separation by explicit search over images k = -2..2 in both directions.
-Vec2 brute_minimum_image(const Box& box, const Vec2& ri, const Vec2& rj) {
-  Vec2 best(1e300, 1e300);
-  int ky_range = box.periodic_y ? 2 : 0;
-  for (int ky = -ky_range; ky <= ky_range; ++ky)
-    for (int kx = -2; kx <= 2; ++kx) {
-      Vec2 image = rj + Vec2(kx * box.lx + ky * box.offset, ky * box.ly);
-      Vec2 d = ri - image;
-      if (d.squaredNorm() < best.squaredNorm()) best = d;
-    }
-  return best;
-}
-
 std::vector<Vec2> random_positions(Rng& rng, const Box& box, int n) {
   std::vector<Vec2> r(n);
   for (auto& p : r) p = Vec2(rng.uniform(0, box.lx), box.periodic_y ? rng.uniform(0, box.ly) : rng.uniform(-3, 40));
@@ -39,58 +31,6 @@ std::vector<std::pair<int, int>> brute_pairs(const Box& box, const std::vector<V
   return out;
 }
 }  // namespace
-
-TEST(LeesEdwardsBox, MinimumImageMatchesBruteForce) {
-  Rng rng(7);
-  int checked = 0;
-  for (double offset : {0.0, 1e-9, 3.3, 9.999, 10.0 - 1e-9, 17.2}) {
-    Box box{20.0, 14.0, true, offset};
-    for (int t = 0; t < 2000; ++t) {
-      Vec2 a(rng.uniform(0, box.lx), rng.uniform(0, box.ly));
-      Vec2 b(rng.uniform(0, box.lx), rng.uniform(0, box.ly));
-      Vec2 d = box.minimum_image(a - b);
-      Vec2 ref = brute_minimum_image(box, a, b);
-      // Exact whenever the nearest image is closer than half the smaller box side,
-      // which is all a cutoff-limited search needs; beyond that it is a valid image.
-      if (ref.norm() < 0.5 * std::min(box.lx, box.ly)) {
-        ASSERT_NEAR(d.norm(), ref.norm(), 1e-12) << "offset " << offset;
-        ++checked;
-      }
-    }
-  }
-  EXPECT_GT(checked, 3000);
-}
-
-TEST(LeesEdwardsBox, WrapShiftsPositionAndVelocity) {
-  Box box{10.0, 8.0, true, 2.5};
-  const double rate = 0.3;
-  Vec2 r(1.0, 8.2), v(0.4, 1.0);
-  EXPECT_EQ(box.wrap(r, v, rate), 1);  // left through the top
-  EXPECT_NEAR(r.y(), 0.2, 1e-12);
-  EXPECT_NEAR(r.x(), 1.0 - 2.5 + 10.0, 1e-12);
-  EXPECT_NEAR(v.x(), 0.4 - rate * 8.0, 1e-12);
-  EXPECT_NEAR(v.y(), 1.0, 0);
-  Vec2 r2(9.5, -0.1), v2(0.0, -1.0);
-  EXPECT_EQ(box.wrap(r2, v2, rate), -1);  // left through the bottom
-  EXPECT_NEAR(r2.y(), 7.9, 1e-12);
-  EXPECT_NEAR(r2.x(), 9.5 + 2.5 - 10.0, 1e-12);
-  EXPECT_NEAR(v2.x(), rate * 8.0, 1e-12);
-}
-
-TEST(LeesEdwardsBox, WrappedImageIsTheSamePoint) {
-  // Wrapping must not change any minimum-image separation.
-  Rng rng(3);
-  Box box{12.0, 9.0, true, 4.7};
-  for (int t = 0; t < 1000; ++t) {
-    Vec2 a(rng.uniform(-20, 30), rng.uniform(-20, 30)), b(rng.uniform(0, 12), rng.uniform(0, 9));
-    Vec2 before = box.minimum_image(a - b);
-    Vec2 v(0, 0);
-    box.wrap(a, v, 0.0);
-    ASSERT_GE(a.x(), 0); ASSERT_LT(a.x(), box.lx);
-    ASSERT_GE(a.y(), 0); ASSERT_LT(a.y(), box.ly);
-    ASSERT_NEAR((box.minimum_image(a - b) - before).norm(), 0, 1e-9);
-  }
-}
 
 TEST(CellListSearch, MatchesBruteForceWithLeesEdwardsOffsets) {
   Rng rng(11);

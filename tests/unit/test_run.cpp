@@ -1,0 +1,346 @@
+// lib/run directly: a checkpoint holds every field a resume needs (read back exactly, and
+// an engine rebuilt from it continues bit for bit), the run signature holds exactly the
+// options that change a trajectory, a resume is refused when the options or the partial
+// output do not match, and start_or_resume + run_steps interrupted and resumed give the
+// uninterrupted output. The programs' own resume (signals, real processes) is tested in
+// tests/programs.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/cli.hpp"
+#include "core/error.hpp"
+#include "core/output_file.hpp"
+#include "dynamics/engine.hpp"
+#include "io/trajectory.hpp"
+#include "packing/packing.hpp"
+#include "run/checkpoint.hpp"
+#include "run/driver.hpp"
+#include "run/frames.hpp"
+#include "run/runner.hpp"
+
+namespace granflow {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory under the system's temporary one, removed at the end of the test.
+struct Scratch {
+  fs::path dir;
+  explicit Scratch(const std::string& name) : dir(fs::temp_directory_path() / ("granflow_test_run_" + name)) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string operator/(const std::string& file) const { return (dir / file).string(); }
+};
+
+// A small sheared packing with friction: contacts with tangential forces and ages > 1.
+struct Start {
+  GrainState grains;
+  Box box;
+};
+Start sheared_start(double packing_fraction = 0.78) {
+  PackingParams params;
+  params.grains = 120;
+  params.packing_fraction = packing_fraction;
+  params.seed = 4;
+  const Packing packing = make_biperiodic_packing(params);
+  Start s{make_grains(packing.position, packing.radius), packing.box};
+  add_affine_flow(s.grains, s.box, 0.5);
+  return s;
+}
+const Material kMaterial{0.5, 0.2, 0.4};
+
+// The run options of gf-shear and gf-incline on a small program's command line.
+CommandLine run_cli(const std::string& output, std::vector<std::string> args) {
+  CommandLine cli("gf-test", "[options]", "lib/run test");
+  cli.option("output", 'o', "FILE", "trajectory to write");
+  cli.option("steps", 0, "N", "steps", "60");
+  add_contact_options(cli);
+  add_run_options(cli, "1");
+  args.insert(args.begin(), {"gf-test", "-o", output, "--quiet"});
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  EXPECT_TRUE(cli.parse(int(argv.size()), argv.data()));
+  return cli;
+}
+
+void expect_same_grains(const io::Frame& a, const io::Frame& b) {
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.velocity, b.velocity);
+  EXPECT_EQ(a.orientation, b.orientation);
+  EXPECT_EQ(a.angular_velocity, b.angular_velocity);
+  EXPECT_EQ(a.box.lx, b.box.lx);
+  EXPECT_EQ(a.box.ly, b.box.ly);
+  EXPECT_EQ(a.box.periodic_y, b.box.periodic_y);
+  EXPECT_EQ(a.box.offset, b.box.offset);
+}
+
+void expect_same_contacts(const ContactRecords& a, const ContactRecords& b) {
+  EXPECT_EQ(a.pair, b.pair);
+  EXPECT_EQ(a.normal_force, b.normal_force);
+  EXPECT_EQ(a.tangential_force, b.tangential_force);
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.binary_force, b.binary_force);
+  EXPECT_EQ(a.pre_normal_velocity, b.pre_normal_velocity);
+  EXPECT_EQ(a.age, b.age);
+}
+
+TEST(RunCheckpoint, PathIsAHiddenFileBesideTheOutput) {
+  EXPECT_EQ(checkpoint_path("runs/a/shear.h5"), "runs/a/.shear.h5.checkpoint");
+  EXPECT_EQ(checkpoint_path("shear.h5"), ".shear.h5.checkpoint");
+}
+
+// Every field written is read back exactly, the caller's extra state included, and an
+// engine rebuilt from the checkpoint steps on exactly as the one that wrote it.
+TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
+  Scratch dir("round_trip");
+  const Start s = sheared_start();
+  Engine engine(s.grains, s.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
+  for (int k = 0; k < 40; ++k) engine.step();
+  ASSERT_GT(engine.contacts().size(), 20u);
+  bool long_lived = false, tangential = false;
+  for (std::size_t c = 0; c < engine.contacts().size(); ++c) {
+    long_lived = long_lived || engine.contacts().age[c] > 1;
+    tangential = tangential || engine.contacts().tangential_force[c] != 0;
+  }
+  ASSERT_TRUE(long_lived && tangential) << "the start does not exercise the warm start";
+
+  RunStats stats;
+  stats.frames_written = 7;
+  stats.unconverged_steps = 3;
+  stats.iterations = 123456789012;
+  stats.contact_updates = 987654321098;
+  stats.max_residual = 1.25e-11;
+  stats.wall_seconds = 3.75;
+  const std::string signature = "friction=0.4;output=x.h5;rate=0.5;";
+  const std::string path = dir / "run.checkpoint";
+  io::Parameters extra;
+  extra.set("answer", std::int64_t(42));
+  write_checkpoint(path, engine, stats, signature,
+                   [&](io::TrajectoryWriter& w) { w.write_attributes("/extra", extra); });
+  EXPECT_FALSE(fs::exists(path + ".new"));
+
+  const Checkpoint c = read_checkpoint(path);
+  EXPECT_EQ(c.step, 40);
+  EXPECT_EQ(c.signature, signature);
+  EXPECT_EQ(c.stats.frames_written, stats.frames_written);
+  EXPECT_EQ(c.stats.unconverged_steps, stats.unconverged_steps);
+  EXPECT_EQ(c.stats.iterations, stats.iterations);
+  EXPECT_EQ(c.stats.contact_updates, stats.contact_updates);
+  EXPECT_EQ(c.stats.max_residual, stats.max_residual);
+  EXPECT_EQ(c.stats.wall_seconds, stats.wall_seconds);
+  EXPECT_EQ(c.frame.step, 40);
+  EXPECT_EQ(c.frame.time, engine.time());
+  const io::Frame now = frame_of(engine, engine.step_count(), engine.time());
+  expect_same_grains(c.frame, now);
+  ASSERT_TRUE(c.frame.has_contacts);
+  expect_same_contacts(c.frame.contacts, engine.contacts());
+  const io::GrainProperties props = properties_of(engine.state());
+  EXPECT_EQ(c.grains.radius, props.radius);
+  EXPECT_EQ(c.grains.mass, props.mass);
+  EXPECT_EQ(c.grains.fixed, props.fixed);
+  EXPECT_EQ(io::TrajectoryReader(path).attributes("/extra").get_int("answer"), 42);
+  EXPECT_EQ(io::TrajectoryReader(path).lees_edwards_rate(), 0.5);
+
+  Engine resumed(grains_of(c.frame, c.grains), c.frame.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
+  resumed.restore(c.step, memory_of(c.frame.contacts));
+  for (int k = 0; k < 30; ++k) {
+    engine.step();
+    resumed.step();
+  }
+  EXPECT_EQ(resumed.step_count(), engine.step_count());
+  expect_same_grains(frame_of(resumed, 70, resumed.time()), frame_of(engine, 70, engine.time()));
+  expect_same_contacts(resumed.contacts(), engine.contacts());
+}
+
+TEST(RunCheckpoint, ATrajectoryIsNotACheckpoint) {
+  Scratch dir("not_checkpoint");
+  const Start s = sheared_start();
+  Engine engine(s.grains, s.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
+  {
+    io::TrajectoryWriter w(dir / "traj.h5");
+    w.write_grains(properties_of(engine.state()), engine.box());
+    w.append_frame(frame_of(engine, 0, 0.0));
+  }
+  EXPECT_THROW(read_checkpoint(dir / "traj.h5"), UsageError);
+  EXPECT_THROW(read_checkpoint(dir / "missing.h5"), UsageError);
+}
+
+// What makes a resume compatible: every option that can change the trajectory, given or
+// defaulted; not --resume, --checkpoint-every or --threads (the trajectory is the same
+// for any thread count).
+TEST(RunSignature, HoldsTheOptionsThatChangeTheTrajectory) {
+  const std::string base = run_signature(run_cli("a.h5", {}));
+  EXPECT_NE(base.find("friction=0;"), std::string::npos) << base;
+  EXPECT_NE(base.find("steps=60;"), std::string::npos) << base;
+  EXPECT_NE(base.find("output=a.h5;"), std::string::npos) << base;
+  EXPECT_EQ(base.find("threads"), std::string::npos) << base;
+  EXPECT_EQ(base.find("resume"), std::string::npos) << base;
+  EXPECT_EQ(base.find("checkpoint-every"), std::string::npos) << base;
+  EXPECT_EQ(base.find("quiet"), std::string::npos) << base;
+
+  // A default given explicitly is the same run.
+  EXPECT_EQ(run_signature(run_cli("a.h5", {"--friction", "0"})), base);
+  EXPECT_EQ(run_signature(run_cli("a.h5", {"--threads", "2", "--checkpoint-every", "5", "--resume"})), base);
+  for (const std::vector<std::string>& changed :
+       {std::vector<std::string>{"--friction", "0.1"}, {"--restitution", "0.9"}, {"--steps", "61"},
+        {"--tolerance", "1e-9"}, {"--alert-distance", "0.05"}, {"--frame-every", "3"}, {"--observe-every", "2"}}) {
+    SCOPED_TRACE(changed[0]);
+    EXPECT_NE(run_signature(run_cli("a.h5", changed)), base);
+  }
+  EXPECT_NE(run_signature(run_cli("b.h5", {})), base);
+}
+
+// A run of `steps` steps from sheared_start() through start_or_resume and run_resumable,
+// as gf-shear does (`input` stands for its input file); with `stop_at` > 0 it stops there
+// as a signal would leave it (partial output and checkpoint kept) and returns false.
+bool run(const CommandLine& cli, const std::string& input, std::int64_t steps, std::int64_t stop_at = 0) {
+  const Start s = sheared_start();
+  RunPlan plan = run_plan(cli);
+  set_length(plan, steps);
+  const RunStart start{
+      .grains = s.grains,
+      .box = s.box,
+      .contacts = {},
+      .rate = 0.5,
+      .gravity = Vec2::Zero(),
+      .material = material_option(cli),
+      .settings = solver_option(cli),
+      .dt = 1e-3,
+      .input_path = input,
+      .add_parameters = [](io::Parameters& p) { p.set("extra_parameter", 1.5); },
+      .restore = {},
+  };
+  // The program's observables: here the first grain's spin.
+  const Observer observe = [](const Engine& e, io::TrajectoryWriter& w) {
+    w.append_observable("spin", e.step_count(), e.time(), e.state().angular_velocity[0]);
+  };
+  OutputFile out(cli.text("output"), /*resumable=*/true);
+  StartedRun r = start_or_resume(cli, plan, out, start);
+  if (stop_at > 0) {
+    RunPlan first = plan;
+    first.total_steps = stop_at;
+    const RunStats stats = run_resumable(r.engine, r.writer, out, first, r.stats, observe);
+    r.writer.flush();
+    write_checkpoint(plan.checkpoint_path, r.engine, stats, plan.signature);
+    out.keep_partial();
+    r.writer.close();
+    return false;
+  }
+  const RunStats stats = run_resumable(r.engine, r.writer, out, plan, r.stats, observe);
+  finish_run(cli, r.writer, out, r.engine, stats, plan);
+  return true;
+}
+
+TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
+  Scratch dir("resume");
+  const std::vector<std::string> options{"--friction", "0.4", "--frame-every", "10", "--tolerance", "1e-8"};
+  const std::string input = dir / "input";
+  std::ofstream(input) << "the start state";
+  ASSERT_TRUE(run(run_cli(dir / "ref.h5", options), input, 60));
+
+  EXPECT_FALSE(run(run_cli(dir / "cut.h5", options), input, 60, 30));
+  EXPECT_FALSE(fs::exists(dir / "cut.h5"));
+  ASSERT_TRUE(fs::exists(dir / ".cut.h5.part"));
+  ASSERT_TRUE(fs::exists(dir / ".cut.h5.checkpoint"));
+  std::vector<std::string> resume = options;
+  resume.insert(resume.end(), {"--resume", "--threads", "2"});
+  ASSERT_TRUE(run(run_cli(dir / "cut.h5", resume), input, 60));
+  EXPECT_FALSE(fs::exists(dir / ".cut.h5.part"));
+  EXPECT_FALSE(fs::exists(dir / ".cut.h5.checkpoint"));
+
+  io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
+  EXPECT_EQ(cut.parameters().get_double("extra_parameter"), 1.5);
+  EXPECT_EQ(cut.parameters().get_string("input"), input);
+  EXPECT_EQ(cut.parameters().get_string("input_sha256"), ref.parameters().get_string("input_sha256"));
+  ASSERT_EQ(ref.frame_count(), 7u);
+  for (std::size_t k : {3, 6}) ASSERT_GT(ref.frame(k).contacts.size(), 10u) << "frame " << k << ": too few contacts";
+  ASSERT_EQ(cut.frame_count(), ref.frame_count());
+  for (std::size_t k = 0; k < ref.frame_count(); ++k) {
+    SCOPED_TRACE(k);
+    const io::Frame a = ref.frame(k), b = cut.frame(k);
+    EXPECT_EQ(a.step, b.step);
+    expect_same_grains(a, b);
+    expect_same_contacts(a.contacts, b.contacts);
+  }
+  for (const char* name : {"spin", "contacts", "solver_iterations", "solver_residual", "max_overlap"}) {
+    EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
+    EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
+  }
+  EXPECT_EQ(ref.attributes("/run").get_int("steps"), cut.attributes("/run").get_int("steps"));
+  EXPECT_EQ(ref.attributes("/run").get_int("unconverged_steps"), cut.attributes("/run").get_int("unconverged_steps"));
+  EXPECT_EQ(ref.attributes("/run").get_double("max_residual"), cut.attributes("/run").get_double("max_residual"));
+  EXPECT_EQ(ref.attributes("/run").get_double("mean_iterations"), cut.attributes("/run").get_double("mean_iterations"));
+}
+
+// A resume must be asked for, match the checkpoint's options, and find the partial
+// output; without a checkpoint it starts over.
+TEST(RunResume, RefusalsAndFreshStarts) {
+  Scratch dir("refusals");
+  const std::vector<std::string> options{"--friction", "0.4", "--frame-every", "10", "--tolerance", "1e-8"};
+  const std::string out_path = dir / "cut.h5";
+  const std::string input = dir / "input";
+  std::ofstream(input) << "the start state";
+  {
+    const CommandLine cli = run_cli(out_path, {"--resume"});
+    OutputFile out(out_path, true);
+    EXPECT_FALSE(resume_point(cli, run_plan(cli), out).has_value()) << "no checkpoint: start over";
+  }
+  EXPECT_FALSE(run(run_cli(out_path, options), input, 60, 30));
+
+  std::vector<std::string> resume = options;
+  resume.push_back("--resume");
+  {
+    const CommandLine cli = run_cli(out_path, options);
+    OutputFile out(out_path, true);
+    out.keep_partial();
+    EXPECT_FALSE(resume_point(cli, run_plan(cli), out).has_value()) << "without --resume the checkpoint is ignored";
+  }
+  for (const std::vector<std::string>& changed :
+       {std::vector<std::string>{"--friction", "0.3"}, {"--steps", "80"}, {"--frame-every", "20"}}) {
+    SCOPED_TRACE(changed[0]);
+    std::vector<std::string> args = resume;
+    args.insert(args.end(), changed.begin(), changed.end());
+    const CommandLine cli = run_cli(out_path, args);
+    OutputFile out(out_path, true);
+    out.keep_partial();
+    try {
+      resume_point(cli, run_plan(cli), out);
+      ADD_FAILURE() << "a resume with other options was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("other options"), std::string::npos) << e.what();
+    }
+  }
+  {
+    const CommandLine cli = run_cli(out_path, resume);
+    OutputFile out(out_path, true);
+    out.keep_partial();
+    const auto checkpoint = resume_point(cli, run_plan(cli), out);
+    ASSERT_TRUE(checkpoint.has_value());
+    EXPECT_EQ(checkpoint->step, 30);
+    EXPECT_EQ(checkpoint->stats.frames_written, 4);
+  }
+  // The partial output removed: OutputFile's writability test leaves an empty file in
+  // its place, which is no partial trajectory either.
+  fs::remove(dir / ".cut.h5.part");
+  {
+    const CommandLine cli = run_cli(out_path, resume);
+    OutputFile out(out_path, true);
+    ASSERT_TRUE(fs::exists(dir / ".cut.h5.part"));
+    try {
+      resume_point(cli, run_plan(cli), out);
+      ADD_FAILURE() << "a resume without its partial output was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("no partial trajectory"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace granflow
