@@ -8,9 +8,7 @@
 using namespace granflow;
 
 namespace {
-std::string scratch(const char* name) {
-  return (std::filesystem::temp_directory_path() / name).string();
-}
+std::string scratch(const char* name) { return (std::filesystem::temp_directory_path() / name).string(); }
 
 io::TrajectoryWriter writer_for(const std::string& path, int n) {
   io::TrajectoryWriter w(path);

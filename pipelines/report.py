@@ -21,10 +21,17 @@ def packing_rows(paths):
         with h5py.File(path, "r") as f:
             a = f["/parameters"].attrs
             obs = f["/observables"]
-            rows.append((os.path.basename(path), len(f["/particles/grains/radius"]), float(a["packing-fraction"]),
-                         float(obs["packing_fraction/value"][0]),
-                         float(obs["max_overlap/value"][0]) / float(a["mean-diameter"]),
-                         float(obs["wall_seconds/value"][0]), int(a["seed"])))
+            rows.append(
+                (
+                    os.path.basename(path),
+                    len(f["/particles/grains/radius"]),
+                    float(a["packing-fraction"]),
+                    float(obs["packing_fraction/value"][0]),
+                    float(obs["max_overlap/value"][0]) / float(a["mean-diameter"]),
+                    float(obs["wall_seconds/value"][0]),
+                    int(a["seed"]),
+                )
+            )
     return rows
 
 
@@ -62,19 +69,31 @@ def steady_start_note(table):
         return f"steady values average the recorded rows with strain ≥ {from_strain:g}."
     start, strain = runs["steady_from"], runs["strain"]
     late = [i for i in range(len(start)) if start[i] > from_strain + 1e-9]
-    text = (f"steady values average the recorded rows from the start of each run's steady part: strain "
-            f"{from_strain:g}" + (", or later where MSER on the block means of T and p finds the run's transient "
-                                  "longer (at most half of the run)" if int(prm.get("detect_transient", 0)) else "")
-            + f". Runs last strain {strain.min():g}–{strain.max():g}; {len(late)} of {len(start)} start later than "
-            f"{from_strain:g} (up to {start.max():.3g}). Error bars are those of each run's time average (blocking): "
-            "they leave out the spread between packings at the same ν, which in dilute flows can be several times "
-            "larger (docs/results/chapter4.md, “Paper size”).")
+    text = (
+        f"steady values average the recorded rows from the start of each run's steady part: strain "
+        f"{from_strain:g}"
+        + (
+            ", or later where MSER on the block means of T and p finds the run's transient "
+            "longer (at most half of the run)"
+            if int(prm.get("detect_transient", 0))
+            else ""
+        )
+        + f". Runs last strain {strain.min():g}–{strain.max():g}; {len(late)} of {len(start)} start later than "
+        f"{from_strain:g} (up to {start.max():.3g}). Error bars are those of each run's time average (blocking): "
+        "they leave out the spread between packings at the same ν, which in dilute flows can be several times "
+        "larger (docs/results/chapter4.md, “Paper size”)."
+    )
     if "stationary" in runs:
         bad = [i for i in range(len(start)) if not runs["stationary"][i]]
-        text += (f" ‡ marks a run whose steady part is not stationary (the means of T or p over its halves differ by "
-                 f"more than {ss.STATIONARY_SIGMAS} blocking errors): {len(bad)} of {len(start)}")
-        text += (" (" + ", ".join(f"`{os.path.basename(runs['input'][i])}` {runs['halves_z'][i]:.1f}σ" for i in bad)
-                 + ")." if bad else ".")
+        text += (
+            f" ‡ marks a run whose steady part is not stationary (the means of T or p over its halves differ by "
+            f"more than {ss.STATIONARY_SIGMAS} blocking errors): {len(bad)} of {len(start)}"
+        )
+        text += (
+            " (" + ", ".join(f"`{os.path.basename(runs['input'][i])}` {runs['halves_z'][i]:.1f}σ" for i in bad) + ")."
+            if bad
+            else "."
+        )
     return text
 
 
@@ -99,37 +118,57 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
     diameter = 2 * runs["mean_radius"]
     overlap = sweep["diagnostics"]["max_overlap_max"] / diameter
     worst = int(np.argmax(overlap))
-    lines = ["", "## Chapter 4: simple shear (thesis §4.2.2, Figs 4.1–4.6)", "",
-             f"Tables `{sweep_path}` (ν × e sweep) and `{bagnold_path}` (Fig 4.2), from "
-             f"`pipelines/analysis/steady_state.py`: N = {runs['grains'][0]}, "
-             f"strain step γ̇dt = {runs['strain_step'][0]:g}; {steady_start_note(sweep)} "
-             f"± is the {sweep['parameters']['error_method']}; † marks an error that is only "
-             "a lower bound (no blocking plateau: the run is short for its correlation time). "
-             f"Largest overlap in the steady parts: {overlap[worst]:.2e} "
-             f"mean diameters (`{os.path.basename(runs['input'][worst])}`); mean solver iterations per step "
-             f"{sweep['diagnostics']['solver_iterations_mean'].min():.3g}–"
-             f"{sweep['diagnostics']['solver_iterations_mean'].max():.3g}.", ""]
+    lines = [
+        "",
+        "## Chapter 4: simple shear (thesis §4.2.2, Figs 4.1–4.6)",
+        "",
+        f"Tables `{sweep_path}` (ν × e sweep) and `{bagnold_path}` (Fig 4.2), from "
+        f"`pipelines/analysis/steady_state.py`: N = {runs['grains'][0]}, "
+        f"strain step γ̇dt = {runs['strain_step'][0]:g}; {steady_start_note(sweep)} "
+        f"± is the {sweep['parameters']['error_method']}; † marks an error that is only "
+        "a lower bound (no blocking plateau: the run is short for its correlation time). "
+        f"Largest overlap in the steady parts: {overlap[worst]:.2e} "
+        f"mean diameters (`{os.path.basename(runs['input'][worst])}`); mean solver iterations per step "
+        f"{sweep['diagnostics']['solver_iterations_mean'].min():.3g}–"
+        f"{sweep['diagnostics']['solver_iterations_mean'].max():.3g}.",
+        "",
+    ]
 
     # Fig 4.2: Bagnold scaling.
     rows = np.argsort(bagnold["runs"]["rate"])
-    lines += ["### Bagnold scaling (Fig 4.2)", "",
-              quote("Although the shear rates in the plots differ by a factor of 10^4, the normalized pressure "
-                    "is virtually identical for both systems.", "362–369"),
-              quote("The invariance in Newton's equations also predicts that sγ̇⁻² and Tγ̇⁻² are independent "
-                    "of γ̇. For all of the simulations we have carried out these predictions from the invariance "
-                    "are upheld", "371"),
-              f"Ours, ν = {bagnold['runs']['packing_fraction'][rows[0]]:.3f}, e = "
-              f"{bagnold['runs']['restitution'][rows[0]]:g}, μ = {bagnold['runs']['friction'][rows[0]]:g}, "
-              "same packing and strain step (dt ∝ 1/γ̇):", "",
-              "| quantity | " + " | ".join(f"γ̇ = {r:g}" for r in bagnold["runs"]["rate"][rows])
-              + " | (last − first)/σ |",
-              "|---|" + "---|" * len(rows) + "---|"]
+    lines += [
+        "### Bagnold scaling (Fig 4.2)",
+        "",
+        quote(
+            "Although the shear rates in the plots differ by a factor of 10^4, the normalized pressure "
+            "is virtually identical for both systems.",
+            "362–369",
+        ),
+        quote(
+            "The invariance in Newton's equations also predicts that sγ̇⁻² and Tγ̇⁻² are independent "
+            "of γ̇. For all of the simulations we have carried out these predictions from the invariance "
+            "are upheld",
+            "371",
+        ),
+        f"Ours, ν = {bagnold['runs']['packing_fraction'][rows[0]]:.3f}, e = "
+        f"{bagnold['runs']['restitution'][rows[0]]:g}, μ = {bagnold['runs']['friction'][rows[0]]:g}, "
+        "same packing and strain step (dt ∝ 1/γ̇):",
+        "",
+        "| quantity | " + " | ".join(f"γ̇ = {r:g}" for r in bagnold["runs"]["rate"][rows]) + " | (last − first)/σ |",
+        "|---|" + "---|" * len(rows) + "---|",
+    ]
     bst = bagnold["steady"]
-    for name, label in (("pressure_scaled", "p/(γ̇²m)"), ("shear_stress_scaled", "s/(γ̇²m)"),
-                        ("temperature_scaled", "T/(γ̇²⟨R⟩²)")):
+    for name, label in (
+        ("pressure_scaled", "p/(γ̇²m)"),
+        ("shear_stress_scaled", "s/(γ̇²m)"),
+        ("temperature_scaled", "T/(γ̇²⟨R⟩²)"),
+    ):
         a, b = rows[0], rows[-1]
-        lines.append(f"| {label} | " + " | ".join(cell(bagnold, name, r) for r in rows)
-                     + f" | {sigmas(bst[name][b] - bst[name][a], bst[name + '_error'][a], bst[name + '_error'][b])} |")
+        lines.append(
+            f"| {label} | "
+            + " | ".join(cell(bagnold, name, r) for r in rows)
+            + f" | {sigmas(bst[name][b] - bst[name][a], bst[name + '_error'][a], bst[name + '_error'][b])} |"
+        )
 
     # Fig 4.3: transient and fluctuations of the invariants, from where the tables start the run.
     run = ss.read_run(reference_path)
@@ -139,54 +178,89 @@ def ch4_section(sweep_path, bagnold_path, reference_path):
     first, second = ss.steady_values(run, from_strain, middle)[0], ss.steady_values(run, middle)[0]
     inst = ss.invariant_series(run)
     steady = run["series"]["strain"] >= from_strain
-    lines += ["", "### Steady state and fluctuations (Fig 4.3)", "",
-              quote("For all quantities, steady flow is reached by a shear of approximately 0.5", "377"),
-              quote("the values of s/p and mT/p⟨R⟩² fluctuate much more than γ̇⟨R⟩/√T", "377"),
-              f"Ours (`{os.path.basename(reference_path)}`): the steady part split in two halves — equal means "
-              "(|difference| of a few σ at most) say the transient is over by strain "
-              f"{from_strain:g}; relative fluctuation = standard deviation / mean of the per-step values.", "",
-              f"| invariant | strain {from_strain:g}–{middle:.3g} | {middle:.3g}–{end:.3g} | difference/σ "
-              "| relative fluctuation |", "|---|---|---|---|---|"]
-    for name, label in (("s_over_p", "s/p"), ("rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"),
-                        ("mT_over_pR2", "mT/(p⟨R⟩²)")):
+    lines += [
+        "",
+        "### Steady state and fluctuations (Fig 4.3)",
+        "",
+        quote("For all quantities, steady flow is reached by a shear of approximately 0.5", "377"),
+        quote("the values of s/p and mT/p⟨R⟩² fluctuate much more than γ̇⟨R⟩/√T", "377"),
+        f"Ours (`{os.path.basename(reference_path)}`): the steady part split in two halves — equal means "
+        "(|difference| of a few σ at most) say the transient is over by strain "
+        f"{from_strain:g}; relative fluctuation = standard deviation / mean of the per-step values.",
+        "",
+        f"| invariant | strain {from_strain:g}–{middle:.3g} | {middle:.3g}–{end:.3g} | difference/σ "
+        "| relative fluctuation |",
+        "|---|---|---|---|---|",
+    ]
+    for name, label in (("s_over_p", "s/p"), ("rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"), ("mT_over_pR2", "mT/(p⟨R⟩²)")):
         (a, ea, pa), (b, eb, pb) = first[name], second[name]
         x = inst[name][steady]
-        lines.append(f"| {label} | {fmt(a, ea, pa)} | {fmt(b, eb, pb)} | {sigmas(b - a, ea, eb)} "
-                     f"| {np.nanstd(x) / abs(np.nanmean(x)):.3g} |")
+        lines.append(
+            f"| {label} | {fmt(a, ea, pa)} | {fmt(b, eb, pb)} | {sigmas(b - a, ea, eb)} "
+            f"| {np.nanstd(x) / abs(np.nanmean(x)):.3g} |"
+        )
 
     # Figs 4.4 and 4.5: e = 0, μ = 0 against ν.
     zero = ss.select(sweep, restitution=0.0, friction=0.0)
-    lines += ["", "### Steady rheology against ν, e = 0, μ = 0 (Figs 4.4, 4.5)", "",
-              quote("for packing fractions larger than 0.75 there is a large increase in the values of the stresses "
-                    "and granular temperature", "384"),
-              quote("Both the shear stress and pressure are seen to diverge at a finite packing fraction", "386"),
-              quote("Previous research [71, 27] has shown that N_1 ∼ 10^-2.", "358"),
-              quote("We see that the static part of the pressure becomes larger than the kinetic part for ν > 0.4.",
-                    "404"),
-              "| ν | steady from | p/(γ̇²m) | s/(γ̇²m) | T/(γ̇²⟨R⟩²) | s/p | N₁ | pˢ/(γ̇²m) | pᵏ/(γ̇²m) |",
-              "|---|---|---|---|---|---|---|---|---|"]
+    lines += [
+        "",
+        "### Steady rheology against ν, e = 0, μ = 0 (Figs 4.4, 4.5)",
+        "",
+        quote(
+            "for packing fractions larger than 0.75 there is a large increase in the values of the stresses "
+            "and granular temperature",
+            "384",
+        ),
+        quote("Both the shear stress and pressure are seen to diverge at a finite packing fraction", "386"),
+        quote("Previous research [71, 27] has shown that N_1 ∼ 10^-2.", "358"),
+        quote("We see that the static part of the pressure becomes larger than the kinetic part for ν > 0.4.", "404"),
+        "| ν | steady from | p/(γ̇²m) | s/(γ̇²m) | T/(γ̇²⟨R⟩²) | s/p | N₁ | pˢ/(γ̇²m) | pᵏ/(γ̇²m) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in zero:
         start = f"{runs['steady_from'][r]:.3g} of {runs['strain'][r]:g}" if "steady_from" in runs else "–"
-        lines.append(f"| {runs['packing_fraction'][r]:.3f} | {start} | " + " | ".join(
-            cell(sweep, name, r) for name in ("pressure_scaled", "shear_stress_scaled", "temperature_scaled",
-                                              "s_over_p", "normal_stress_difference", "pressure_static_scaled",
-                                              "pressure_kinetic_scaled")) + " |")
+        lines.append(
+            f"| {runs['packing_fraction'][r]:.3f} | {start} | "
+            + " | ".join(
+                cell(sweep, name, r)
+                for name in (
+                    "pressure_scaled",
+                    "shear_stress_scaled",
+                    "temperature_scaled",
+                    "s_over_p",
+                    "normal_stress_difference",
+                    "pressure_static_scaled",
+                    "pressure_kinetic_scaled",
+                )
+            )
+            + " |"
+        )
     n1 = np.abs(st["normal_stress_difference"][ss.select(sweep, friction=0.0)])
     static_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] > st["pressure_kinetic"][r]]
     kinetic_wins = [runs["packing_fraction"][r] for r in zero if st["pressure_static"][r] <= st["pressure_kinetic"][r]]
-    lines += ["", f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} μ = 0 runs of the sweep (every e). "
-              f"pˢ > pᵏ at ν = {', '.join(f'{v:.3f}' for v in static_wins) or 'none'}; "
-              f"pˢ ≤ pᵏ at ν = {', '.join(f'{v:.3f}' for v in kinetic_wins) or 'none'}."]
+    lines += [
+        "",
+        f"Ours: |N₁| = {n1.min():.2g}–{n1.max():.2g} over all {len(n1)} μ = 0 runs of the sweep (every e). "
+        f"pˢ > pᵏ at ν = {', '.join(f'{v:.3f}' for v in static_wins) or 'none'}; "
+        f"pˢ ≤ pᵏ at ν = {', '.join(f'{v:.3f}' for v in kinetic_wins) or 'none'}.",
+    ]
 
     # Fig 4.6: static pressure against ν for every e.
     frictionless = ss.select(sweep, friction=0.0)
     es = np.unique(runs["restitution"][frictionless])
-    lines += ["", "### Static pressure for several e, μ = 0 (Fig 4.6)", "",
-              quote("For large packing fractions the pressures become independent of e.", "408"),
-              quote("At low values of packing fraction the dynamics becomes less linked to geometric constraints and "
-                    "there is a large variance with e.", "408"),
-              "| ν | " + " | ".join(f"pˢ/(γ̇²m), e = {e:g}" for e in es) + " | max/min over e |",
-              "|---|" + "---|" * len(es) + "---|"]
+    lines += [
+        "",
+        "### Static pressure for several e, μ = 0 (Fig 4.6)",
+        "",
+        quote("For large packing fractions the pressures become independent of e.", "408"),
+        quote(
+            "At low values of packing fraction the dynamics becomes less linked to geometric constraints and "
+            "there is a large variance with e.",
+            "408",
+        ),
+        "| ν | " + " | ".join(f"pˢ/(γ̇²m), e = {e:g}" for e in es) + " | max/min over e |",
+        "|---|" + "---|" * len(es) + "---|",
+    ]
     for nu in np.unique(runs["packing_fraction"][frictionless]):
         cells, values = [], []
         for e in es:
@@ -218,100 +292,158 @@ def incline_section(incline_path, critical_path, sweep_path):
     runs, bulk, bal, fit = inc["runs"], inc["bulk"], inc["balance"], inc["fit"]
     order = np.lexsort((runs["angle"], runs["friction"]))
     d = 2 * runs["mean_radius"]
-    lines = ["", "## Chapter 4: incline flow (thesis §4.3–4.4, Figs 4.7–4.10)", "",
-             f"Table `{incline_path}` from `pipelines/analysis/incline_bulk.py`: {runs['grains'][0]} mobile grains "
-             f"on a base {runs['layer_length'][0] / d[0]:.1f} mean diameters long, e = {runs['restitution'][0]:g}; "
-             "profiles averaged over x and over the part of each run given by “from” (gf-incline, `/profiles`). "
-             f"Bulk = layers ≥ {float(inc['parameters']['base_skip']):g} diameters above the base and ≥ "
-             f"{float(inc['parameters']['surface_skip']):g} below the surface H = Σm/(L_x ν_bulk); ± is the "
-             "scatter of the bulk layers (standard error of their mean), drift the relative change across the "
-             "bulk (straight-line fit). “steady” is gf-incline's check (flow rate and kinetic energy: first and "
-             "second half of the averaged part agree within 3σ).", "",
-             quote("In the bulk of the flow, where the boundaries do not play a role, the packing fraction is "
-                   "constant and the granular temperature is linear. The y-dependence of the average flow "
-                   "velocity is very close to y^{3/2}", "449"),
-             quote("These three invariant quantities should only depend on the packing fraction and *not* on y.",
-                   "461"),
-             "| θ | μ | steady | from (τ) | run (τ) | H/σ | bulk layers | ν | s/p (tan θ) | γ̇⟨R⟩/√T | "
-             "mT/(p⟨R⟩²) | drift s/p, γ̇⟨R⟩/√T, mT/p⟨R⟩² | max dev. Σyy, s from g cos θ W, g sin θ W |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "",
+        "## Chapter 4: incline flow (thesis §4.3–4.4, Figs 4.7–4.10)",
+        "",
+        f"Table `{incline_path}` from `pipelines/analysis/incline_bulk.py`: {runs['grains'][0]} mobile grains "
+        f"on a base {runs['layer_length'][0] / d[0]:.1f} mean diameters long, e = {runs['restitution'][0]:g}; "
+        "profiles averaged over x and over the part of each run given by “from” (gf-incline, `/profiles`). "
+        f"Bulk = layers ≥ {float(inc['parameters']['base_skip']):g} diameters above the base and ≥ "
+        f"{float(inc['parameters']['surface_skip']):g} below the surface H = Σm/(L_x ν_bulk); ± is the "
+        "scatter of the bulk layers (standard error of their mean), drift the relative change across the "
+        "bulk (straight-line fit). “steady” is gf-incline's check (flow rate and kinetic energy: first and "
+        "second half of the averaged part agree within 3σ).",
+        "",
+        quote(
+            "In the bulk of the flow, where the boundaries do not play a role, the packing fraction is "
+            "constant and the granular temperature is linear. The y-dependence of the average flow "
+            "velocity is very close to y^{3/2}",
+            "449",
+        ),
+        quote("These three invariant quantities should only depend on the packing fraction and *not* on y.", "461"),
+        "| θ | μ | steady | from (τ) | run (τ) | H/σ | bulk layers | ν | s/p (tan θ) | γ̇⟨R⟩/√T | "
+        "mT/(p⟨R⟩²) | drift s/p, γ̇⟨R⟩/√T, mT/p⟨R⟩² | max dev. Σyy, s from g cos θ W, g sin θ W |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in order:
         if not runs["flowing"][r]:
-            lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
-                         f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | – | – | "
-                         f"{bulk['packing_fraction'][r]:.3f} | not flowing | | | | |")
+            lines.append(
+                f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
+                f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | – | – | "
+                f"{bulk['packing_fraction'][r]:.3f} | not flowing | | | | |"
+            )
             continue
-        cells = [fmt(bulk[n][r], bulk[n + "_error"][r]) for n in ("packing_fraction", "s_over_p", "inertial",
-                                                                 "mT_over_pR2")]
+        cells = [
+            fmt(bulk[n][r], bulk[n + "_error"][r]) for n in ("packing_fraction", "s_over_p", "inertial", "mT_over_pR2")
+        ]
         cells[1] += f" ({math.tan(math.radians(runs['angle'][r])):.4f})"
-        lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
-                     f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | "
-                     f"{runs['surface_height'][r] / d[r]:.1f} | {runs['bulk_layers'][r]} | " + " | ".join(cells)
-                     + f" | {bulk['s_over_p_drift'][r]:+.3f}, {bulk['inertial_drift'][r]:+.3f}, "
-                     f"{bulk['mT_over_pR2_drift'][r]:+.3f} | {bal['yy_max_deviation'][r]:.2%}, "
-                     f"{bal['xy_max_deviation'][r]:.2%} |")
+        lines.append(
+            f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {runs['steady'][r]} | "
+            f"{runs['steady_from_tau'][r]:.0f} | {runs['time'][r]:.0f} | "
+            f"{runs['surface_height'][r] / d[r]:.1f} | {runs['bulk_layers'][r]} | "
+            + " | ".join(cells)
+            + f" | {bulk['s_over_p_drift'][r]:+.3f}, {bulk['inertial_drift'][r]:+.3f}, "
+            f"{bulk['mT_over_pR2_drift'][r]:+.3f} | {bal['yy_max_deviation'][r]:.2%}, "
+            f"{bal['xy_max_deviation'][r]:.2%} |"
+        )
     branched = [r for r in order if "start_friction" in runs and np.isfinite(runs["start_friction"][r])]
     if branched:
-        lines += ["", "Branched runs (“from” and “run” count from the branch point; velocities kept): " + "; ".join(
-            f"θ = {runs['angle'][r]:g}°, μ = {runs['friction'][r]:g} from `{runs['start'][r]}` (μ = "
-            f"{runs['start_friction'][r]:g}) at its {runs['start_time'][r]:.0f} τ" for r in branched) + "."]
+        lines += [
+            "",
+            "Branched runs (“from” and “run” count from the branch point; velocities kept): "
+            + "; ".join(
+                f"θ = {runs['angle'][r]:g}°, μ = {runs['friction'][r]:g} from `{runs['start'][r]}` (μ = "
+                f"{runs['start_friction'][r]:g}) at its {runs['start_time'][r]:.0f} τ"
+                for r in branched
+            )
+            + ".",
+        ]
     flowing = order[runs["flowing"][order] == 1]
     if len(flowing):
         worst = max(float(np.max(bal["yy_max_deviation"][flowing])), float(np.max(bal["xy_max_deviation"][flowing])))
-        lines += ["", f"Momentum balance (eq. 4.7–4.9, must hold whatever the rheology): largest deviation over "
-                  f"the bulk layers of all flowing runs {worst:.2%} (issue 4 asks ≤ 3 %).", "",
-                  "### V_x profile", "",
-                  "Fits to the steady V_x(y): the Bagnold form V_x = V_s − c (H − y)^a (depth below the "
-                  "surface; a = 3/2 is the thesis' y^{3/2}) on the bulk layers and on all layers from the base "
-                  "skip to the surface, and a plain power law V_x ∝ y^b on the bulk layers:", "",
-                  "| θ | μ | a (bulk) | a (to the surface) | V_s/√(g⟨R⟩) | b of y^b |", "|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            f"Momentum balance (eq. 4.7–4.9, must hold whatever the rheology): largest deviation over "
+            f"the bulk layers of all flowing runs {worst:.2%} (issue 4 asks ≤ 3 %).",
+            "",
+            "### V_x profile",
+            "",
+            "Fits to the steady V_x(y): the Bagnold form V_x = V_s − c (H − y)^a (depth below the "
+            "surface; a = 3/2 is the thesis' y^{3/2}) on the bulk layers and on all layers from the base "
+            "skip to the surface, and a plain power law V_x ∝ y^b on the bulk layers:",
+            "",
+            "| θ | μ | a (bulk) | a (to the surface) | V_s/√(g⟨R⟩) | b of y^b |",
+            "|---|---|---|---|---|---|",
+        ]
         for r in flowing:
-            lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {fit['velocity_exponent'][r]:.2f} | "
-                         f"{fit['velocity_exponent_full'][r]:.2f} | {fit['surface_velocity'][r]:.3g} | "
-                         f"{fit['power_law_exponent'][r]:.2f} |")
+            lines.append(
+                f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {fit['velocity_exponent'][r]:.2f} | "
+                f"{fit['velocity_exponent_full'][r]:.2f} | {fit['surface_velocity'][r]:.3g} | "
+                f"{fit['power_law_exponent'][r]:.2f} |"
+            )
     if sweep_path:
         sweep = ss.read_table(sweep_path)
-        lines += ["", "### Incline bulk against simple shear at the same ν (Fig 4.10)", "",
-                  quote("Data from simple shear flow (circles) and flow down an incline (squares) match on the same "
-                        "curves for both cases.", "489"),
-                  f"Shear values from `{sweep_path}` at the same μ and e, linearly interpolated in ν between the "
-                  "sweep's packing fractions (– when the incline's ν is outside them); difference in units of the "
-                  "combined error (incline: bulk-layer scatter; shear: blocking).", "",
-                  "| θ | μ | ν | invariant | incline | shear at ν | (incline − shear)/σ | relative |",
-                  "|---|---|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            "### Incline bulk against simple shear at the same ν (Fig 4.10)",
+            "",
+            quote(
+                "Data from simple shear flow (circles) and flow down an incline (squares) match on the same "
+                "curves for both cases.",
+                "489",
+            ),
+            f"Shear values from `{sweep_path}` at the same μ and e, linearly interpolated in ν between the "
+            "sweep's packing fractions (– when the incline's ν is outside them); difference in units of the "
+            "combined error (incline: bulk-layer scatter; shear: blocking).",
+            "",
+            "| θ | μ | ν | invariant | incline | shear at ν | (incline − shear)/σ | relative |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
         for r in flowing:
-            for name, shear_name, label in (("s_over_p", "s_over_p", "s/p"),
-                                            ("inertial", "rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"),
-                                            ("mT_over_pR2", "mT_over_pR2", "mT/(p⟨R⟩²)")):
-                got = interpolate_shear(sweep, runs["friction"][r], runs["restitution"][r], shear_name,
-                                        bulk["packing_fraction"][r])
+            for name, shear_name, label in (
+                ("s_over_p", "s_over_p", "s/p"),
+                ("inertial", "rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"),
+                ("mT_over_pR2", "mT_over_pR2", "mT/(p⟨R⟩²)"),
+            ):
+                got = interpolate_shear(
+                    sweep, runs["friction"][r], runs["restitution"][r], shear_name, bulk["packing_fraction"][r]
+                )
                 a, ea = bulk[name][r], bulk[name + "_error"][r]
                 if got is None:
-                    lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | "
-                                 f"{bulk['packing_fraction'][r]:.3f} | {label} | {fmt(a, ea)} | – | – | – |")
+                    lines.append(
+                        f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | "
+                        f"{bulk['packing_fraction'][r]:.3f} | {label} | {fmt(a, ea)} | – | – | – |"
+                    )
                     continue
                 b, eb = got
-                lines.append(f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {bulk['packing_fraction'][r]:.3f}"
-                             f" | {label} | {fmt(a, ea)} | {fmt(b, eb)} | {sigmas(a - b, ea, eb)} | "
-                             f"{(a - b) / b:+.1%} |")
+                lines.append(
+                    f"| {runs['angle'][r]:g} | {runs['friction'][r]:g} | {bulk['packing_fraction'][r]:.3f}"
+                    f" | {label} | {fmt(a, ea)} | {fmt(b, eb)} | {sigmas(a - b, ea, eb)} | "
+                    f"{(a - b) / b:+.1%} |"
+                )
     cr, res = crit["runs"], crit["critical_angle"]
     below, above = float(res["theta_below"]), float(res["theta_above"])
-    lines += ["", "### Critical angle θ_c (§4.3.1)", "",
-              quote("We identify the critical angle θ_c by the angle below which the average velocity fluctuates "
-                    "around zero.", "434"),
-              f"Table `{critical_path}` from `pipelines/analysis/critical_angle.py`: mean flow rate V̄ over the "
-              f"last {float(crit['parameters']['window']):g} τ of each run (blocking error), change Δ between "
-              f"that window's halves; rest = |V̄| ≤ max(3σ, {float(crit['parameters']['rest_velocity']):g}), "
-              f"steady = |Δ| ≤ max(3σ_Δ, {float(crit['parameters']['drift']):g}·V̄).", "",
-              "| θ | μ | V̄/√(g⟨R⟩) | Δ/√(g⟨R⟩) | state |", "|---|---|---|---|---|"]
+    lines += [
+        "",
+        "### Critical angle θ_c (§4.3.1)",
+        "",
+        quote(
+            "We identify the critical angle θ_c by the angle below which the average velocity fluctuates "
+            "around zero.",
+            "434",
+        ),
+        f"Table `{critical_path}` from `pipelines/analysis/critical_angle.py`: mean flow rate V̄ over the "
+        f"last {float(crit['parameters']['window']):g} τ of each run (blocking error), change Δ between "
+        f"that window's halves; rest = |V̄| ≤ max(3σ, {float(crit['parameters']['rest_velocity']):g}), "
+        f"steady = |Δ| ≤ max(3σ_Δ, {float(crit['parameters']['drift']):g}·V̄).",
+        "",
+        "| θ | μ | V̄/√(g⟨R⟩) | Δ/√(g⟨R⟩) | state |",
+        "|---|---|---|---|---|",
+    ]
     for k in range(len(cr["angle"])):
-        lines.append(f"| {cr['angle'][k]:g} | {cr['friction'][k]:g} | "
-                     f"{fmt(cr['mean_velocity'][k], cr['mean_velocity_error'][k])} | "
-                     f"{fmt(cr['drift'][k], cr['drift_error'][k])} | {cr['state'][k]} |")
+        lines.append(
+            f"| {cr['angle'][k]:g} | {cr['friction'][k]:g} | "
+            f"{fmt(cr['mean_velocity'][k], cr['mean_velocity_error'][k])} | "
+            f"{fmt(cr['drift'][k], cr['drift_error'][k])} | {cr['state'][k]} |"
+        )
     if math.isfinite(below) and math.isfinite(above):
-        lines += ["", f"**θ_c = {float(res['theta_c']):g}° ± {float(res['half_width']):g}°**: the lowest angle of "
-                  f"steady flow lies in ({below:g}°, {above:g}°]"
-                  + ("." if int(res["consistent"]) else "; the sweep is not monotonic (a lower angle flows)")]
+        lines += [
+            "",
+            f"**θ_c = {float(res['theta_c']):g}° ± {float(res['half_width']):g}°**: the lowest angle of "
+            f"steady flow lies in ({below:g}°, {above:g}°]"
+            + ("." if int(res["consistent"]) else "; the sweep is not monotonic (a lower angle flows)"),
+        ]
     else:
         lines += ["", f"θ_c not bracketed by this sweep: in ({below:g}°, {above:g}°]."]
     return lines
@@ -324,38 +456,60 @@ def ch5_section(correlate_path, clusters_path):
     runs, cor, fo = table["runs"], table["correlation"], table["forces"]
     sigma = ct.mean_diameter(table)
     thr = res["threshold"]
-    lines = ["", "## Chapter 5: microstructure (thesis §5.1–5.3, Figs 5.1–5.10)", "",
-             f"Table `{correlate_path}` (gf-correlate, one row per run): N = {int(runs['grains'][0])}, "
-             f"{int(runs['frames'].min())}–{int(runs['frames'].max())} frames per run at strain ≥ "
-             f"{float(cor['attrs']['from_strain']):g}"
-             + (f" or past the run's transient (MSER on T and p; first frames at strain "
-                f"{float(np.min(runs['first_strain'])):.3g}–{float(np.max(runs['first_strain'])):.3g})"
-                if int(cor['attrs'].get('detect_transient', 0)) else "")
-             + f", largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
-             f"(σ = {sigma:.4g} the mean diameter). ξ below is gf-correlate's ξ_|C| (`/correlation/xi_abs`: "
-             f"eq. 5.2 on |C̄| in bins of {res['bin_width'] / sigma:.2f}σ, {res['threshold_kind']}-thresholded at "
-             f"{res['k']:g} jackknife errors, block-jackknife errors; `lib/correlation/decay_length.hpp`); "
-             "gf-correlate's eq.-5.2 ξ on the signed C̄ (`/correlation/xi`) is listed beside it: it is a harmonic "
-             "mean of contact distances in dilute flows and loses its meaning where C̄ changes sign (its "
-             "denominator crosses zero).", "",
-             quote("For small values of packing fraction, Figure 5.3 shows the value of ξ approaching a limiting "
-                   "value of 0.785σ.", "555"),
-             f"Ours: ξ_el = {ct.fmt_pm(res['xi_el'] / sigma, res['xi_el_error'] / sigma)}σ from "
-             + ", ".join(f"`{os.path.basename(runs['input'][r])}`" for r in res["reference_rows"])
-             + " (C̄ is a density per unit area, so isolated contacts give ξ ≈ the contact distance ≈ σ; "
-             "only ξ/ξ_el compares with the thesis).", ""]
+    lines = [
+        "",
+        "## Chapter 5: microstructure (thesis §5.1–5.3, Figs 5.1–5.10)",
+        "",
+        f"Table `{correlate_path}` (gf-correlate, one row per run): N = {int(runs['grains'][0])}, "
+        f"{int(runs['frames'].min())}–{int(runs['frames'].max())} frames per run at strain ≥ "
+        f"{float(cor['attrs']['from_strain']):g}"
+        + (
+            f" or past the run's transient (MSER on T and p; first frames at strain "
+            f"{float(np.min(runs['first_strain'])):.3g}–{float(np.max(runs['first_strain'])):.3g})"
+            if int(cor["attrs"].get("detect_transient", 0))
+            else ""
+        )
+        + f", largest lag {float(cor['attrs']['max_lag']) / sigma:.1f}σ "
+        f"(σ = {sigma:.4g} the mean diameter). ξ below is gf-correlate's ξ_|C| (`/correlation/xi_abs`: "
+        f"eq. 5.2 on |C̄| in bins of {res['bin_width'] / sigma:.2f}σ, {res['threshold_kind']}-thresholded at "
+        f"{res['k']:g} jackknife errors, block-jackknife errors; `lib/correlation/decay_length.hpp`); "
+        "gf-correlate's eq.-5.2 ξ on the signed C̄ (`/correlation/xi`) is listed beside it: it is a harmonic "
+        "mean of contact distances in dilute flows and loses its meaning where C̄ changes sign (its "
+        "denominator crosses zero).",
+        "",
+        quote(
+            "For small values of packing fraction, Figure 5.3 shows the value of ξ approaching a limiting "
+            "value of 0.785σ.",
+            "555",
+        ),
+        f"Ours: ξ_el = {ct.fmt_pm(res['xi_el'] / sigma, res['xi_el_error'] / sigma)}σ from "
+        + ", ".join(f"`{os.path.basename(runs['input'][r])}`" for r in res["reference_rows"])
+        + " (C̄ is a density per unit area, so isolated contacts give ξ ≈ the contact distance ≈ σ; "
+        "only ξ/ξ_el compares with the thesis).",
+        "",
+    ]
     # ξ/ξ_el table, ν × e at μ = 0, with the P(f) decision.
     frictionless = ct.select(table, friction=0.0)
     es = np.unique(runs["restitution"][frictionless])
     nus = np.unique(runs["packing_fraction"][frictionless])
-    lines += [quote("We notice that ξ is an increasing function of density for each value of restitution. We also "
-                    "notice, in agreement with Figure 5.1, that ξ increases as e decreases.", "553"),
-              quote("For ξ/ξ_el ≤ 1.25 there is a clear peak, whereas for ξ/ξ_el ≥ 1.25, the peak disappears and "
-                    "the maximum occurs at f = 0.", "645"),
-              "ξ_|C|/ξ_el for μ = 0; ▲ = gf-correlate finds a peak of P(f) at f > 0, ○ = maximum at f = 0 "
-              "(bootstrap confidence < 80 % in brackets); † = correlations reach the box (more than "
-              f"{100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3): not measurable, left out below:", "",
-              "| ν | " + " | ".join(f"e = {e:g}" for e in es) + " |", "|---|" + "---|" * len(es)]
+    lines += [
+        quote(
+            "We notice that ξ is an increasing function of density for each value of restitution. We also "
+            "notice, in agreement with Figure 5.1, that ξ increases as e decreases.",
+            "553",
+        ),
+        quote(
+            "For ξ/ξ_el ≤ 1.25 there is a clear peak, whereas for ξ/ξ_el ≥ 1.25, the peak disappears and "
+            "the maximum occurs at f = 0.",
+            "645",
+        ),
+        "ξ_|C|/ξ_el for μ = 0; ▲ = gf-correlate finds a peak of P(f) at f > 0, ○ = maximum at f = 0 "
+        "(bootstrap confidence < 80 % in brackets); † = correlations reach the box (more than "
+        f"{100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3): not measurable, left out below:",
+        "",
+        "| ν | " + " | ".join(f"e = {e:g}" for e in es) + " |",
+        "|---|" + "---|" * len(es),
+    ]
     for nu in nus:
         cells = []
         for e in es:
@@ -366,8 +520,10 @@ def ch5_section(correlate_path, clusters_path):
             r = r[0]
             mark = "▲" if fo["peak"][r] == 1 else "○"
             conf = fo["peak_confidence"][r]
-            cells.append(f"{ct.fmt_pm(res['ratio'][r], res['ratio_error'][r])}{'' if res['measurable'][r] else ' †'} "
-                         f"{mark}" + (f" ({100 * conf:.0f} %)" if conf < 0.8 else ""))
+            cells.append(
+                f"{ct.fmt_pm(res['ratio'][r], res['ratio_error'][r])}{'' if res['measurable'][r] else ' †'} "
+                f"{mark}" + (f" ({100 * conf:.0f} %)" if conf < 0.8 else "")
+            )
         lines.append(f"| {nu:.3f} | " + " | ".join(cells) + " |")
     # The statements, checked on the measurable runs.
     ok = res["measurable"]
@@ -390,84 +546,128 @@ def ch5_section(correlate_path, clusters_path):
     used = frictionless[ok[frictionless]]
     ratio, peak = res["ratio"][used], fo["peak"][used]
     dense, dilute = ratio >= thr, ratio < thr
-    lines += ["", f"Ours: at the lowest ν = {low:.3f}, (ξ/ξ_el − 1)/error = "
-              + ", ".join(f"{d:+.1f} (e = {e:g})" for e, d in dev)
-              + f". Over the measurable runs, ξ grows with ν in {rising} of {steps} consecutive steps (all e) and "
-              f"decreases with e in {ordered} of {pairs} neighbouring pairs at fixed ν. P(f): of the "
-              f"{int(dense.sum())} runs with ξ/ξ_el ≥ {thr:g}, {int((peak[dense] == 0).sum())} have their maximum "
-              f"at f = 0; of the {int(dilute.sum())} runs with ξ/ξ_el < {thr:g}, {int((peak[dilute] == 1).sum())} "
-              "have a peak at f > 0 (the thesis: all of them). Where the peak goes, per e, is in the next table.",
-              ""]
+    lines += [
+        "",
+        f"Ours: at the lowest ν = {low:.3f}, (ξ/ξ_el − 1)/error = "
+        + ", ".join(f"{d:+.1f} (e = {e:g})" for e, d in dev)
+        + f". Over the measurable runs, ξ grows with ν in {rising} of {steps} consecutive steps (all e) and "
+        f"decreases with e in {ordered} of {pairs} neighbouring pairs at fixed ν. P(f): of the "
+        f"{int(dense.sum())} runs with ξ/ξ_el ≥ {thr:g}, {int((peak[dense] == 0).sum())} have their maximum "
+        f"at f = 0; of the {int(dilute.sum())} runs with ξ/ξ_el < {thr:g}, {int((peak[dilute] == 1).sum())} "
+        "have a peak at f > 0 (the thesis: all of them). Where the peak goes, per e, is in the next table.",
+        "",
+    ]
     # ν_bc per series.
     sweep = table.get("sweep", {})
-    lines += [quote("This plot is for frictionless materials μ = 0, but increasing the value of μ does not change "
-                    "the curve.", "668"),
-              "Peak gone from ν: the lowest ν from which every run of the series has its P(f) maximum at f = 0.", "",
-              "| e | μ | runs | ν_bc (ξ_|C|) | status | ν_bc (gf-correlate, signed ξ) | P(f) peak gone from ν |",
-              "|---|---|---|---|---|---|---|"]
+    lines += [
+        quote(
+            "This plot is for frictionless materials μ = 0, but increasing the value of μ does not change "
+            "the curve.",
+            "668",
+        ),
+        "Peak gone from ν: the lowest ν from which every run of the series has its P(f) maximum at f = 0.",
+        "",
+        "| e | μ | runs | ν_bc (ξ_|C|) | status | ν_bc (gf-correlate, signed ξ) | P(f) peak gone from ν |",
+        "|---|---|---|---|---|---|---|",
+    ]
     status_names = {0: "bracketed", 1: "all_above", 2: "all_below", 3: "too_few", 4: "only_downward"}
     for s in res["series"]:
         gf = "–"
         if sweep:
-            k = np.flatnonzero((np.abs(sweep["restitution"] - s["restitution"]) < 1e-6)
-                               & (np.abs(sweep["friction"] - s["friction"]) < 1e-6))
+            k = np.flatnonzero(
+                (np.abs(sweep["restitution"] - s["restitution"]) < 1e-6)
+                & (np.abs(sweep["friction"] - s["friction"]) < 1e-6)
+            )
             if len(k):
                 k = k[0]
-                gf = (ct.fmt_pm(sweep["nu_bc"][k], sweep["nu_bc_error"][k]) if sweep["status"][k] == 0
-                      else status_names.get(int(sweep["status"][k]), "?"))
+                gf = (
+                    ct.fmt_pm(sweep["nu_bc"][k], sweep["nu_bc_error"][k])
+                    if sweep["status"][k] == 0
+                    else status_names.get(int(sweep["status"][k]), "?")
+                )
         series_rows = ct.select(table, restitution=s["restitution"], friction=s["friction"])
         peaks = fo["peak"][series_rows]
         gone = [runs["packing_fraction"][series_rows][i] for i in range(len(peaks)) if (peaks[i:] == 0).all()]
-        lines.append(f"| {s['restitution']:g} | {s['friction']:g} | {s['runs']} | "
-                     f"{ct.fmt_pm(s['nu_bc'], s['nu_bc_error']) if s['status'] == 'bracketed' else '–'} | "
-                     f"{s['status']} | {gf} | {f'{gone[0]:.3f}' if gone else 'never'} |")
+        lines.append(
+            f"| {s['restitution']:g} | {s['friction']:g} | {s['runs']} | "
+            f"{ct.fmt_pm(s['nu_bc'], s['nu_bc_error']) if s['status'] == 'bracketed' else '–'} | "
+            f"{s['status']} | {gf} | {f'{gone[0]:.3f}' if gone else 'never'} |"
+        )
     # Anisotropy: every frictionless run with a well-defined eq.-5.2 ξ.
-    ok = frictionless[(cor["xi"][frictionless] > 0) & (cor["xi_error"][frictionless] < 0.2 * cor["xi"][frictionless])
-                      & res["measurable"][frictionless]]
+    ok = frictionless[
+        (cor["xi"][frictionless] > 0)
+        & (cor["xi_error"][frictionless] < 0.2 * cor["xi"][frictionless])
+        & res["measurable"][frictionless]
+    ]
     if len(ok):
         th = cor["theta"]
-        fit = ct.fit_anisotropy(np.tile(th, len(ok)),
-                                np.concatenate([2 * np.pi * cor["xi_theta"][r] / cor["xi"][r] for r in ok]),
-                                np.concatenate([2 * np.pi * cor["xi_theta_error"][r] / cor["xi"][r] for r in ok]),
-                                float(np.pi / len(th)))
-        lines += ["", quote("The solid curve in Figure 5.6 is a fit to this equation, which sets the parameters as "
-                            "a_0 = 0.21 and θ_0 = 0.013.", "605"),
-                  f"Ours (gf-correlate's ξ(θ), {len(ok)} runs with δξ/ξ < 0.2, pooled fit of eq. 5.3): a0 = "
-                  f"{ct.fmt_pm(fit['a0'], fit['a0_error'])}, θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} "
-                  f"(χ²/dof = {fit['chi2_dof']:.2g}); per-run a0 from {np.nanmin(cor['a0'][ok]):.2f} to "
-                  f"{np.nanmax(cor['a0'][ok]):.2f}."]
+        fit = ct.fit_anisotropy(
+            np.tile(th, len(ok)),
+            np.concatenate([2 * np.pi * cor["xi_theta"][r] / cor["xi"][r] for r in ok]),
+            np.concatenate([2 * np.pi * cor["xi_theta_error"][r] / cor["xi"][r] for r in ok]),
+            float(np.pi / len(th)),
+        )
+        lines += [
+            "",
+            quote(
+                "The solid curve in Figure 5.6 is a fit to this equation, which sets the parameters as "
+                "a_0 = 0.21 and θ_0 = 0.013.",
+                "605",
+            ),
+            f"Ours (gf-correlate's ξ(θ), {len(ok)} runs with δξ/ξ < 0.2, pooled fit of eq. 5.3): a0 = "
+            f"{ct.fmt_pm(fit['a0'], fit['a0_error'])}, θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} "
+            f"(χ²/dof = {fit['chi2_dof']:.2g}); per-run a0 from {np.nanmin(cor['a0'][ok]):.2f} to "
+            f"{np.nanmax(cor['a0'][ok]):.2f}.",
+        ]
     # The decay length per direction, ξ_|C|(θ), over every measurable frictionless run.
     ok_abs = frictionless[res["measurable"][frictionless]] if "xi_abs_theta" in cor else []
     if len(ok_abs):
         th = cor["theta"]
         mean = np.nanmean(cor["xi_abs_theta"][ok_abs], axis=1)
-        fit = ct.fit_anisotropy(np.tile(th, len(ok_abs)),
-                                np.concatenate([cor["xi_abs_theta"][r] / m for r, m in zip(ok_abs, mean)]),
-                                np.concatenate([cor["xi_abs_theta_error"][r] / m for r, m in zip(ok_abs, mean)]),
-                                float(np.pi / len(th)))
+        fit = ct.fit_anisotropy(
+            np.tile(th, len(ok_abs)),
+            np.concatenate([cor["xi_abs_theta"][r] / m for r, m in zip(ok_abs, mean)]),
+            np.concatenate([cor["xi_abs_theta_error"][r] / m for r, m in zip(ok_abs, mean)]),
+            float(np.pi / len(th)),
+        )
         dense = ok_abs[res["ratio"][ok_abs] >= thr]
-        lines += ["", f"Ours, decay length per direction (gf-correlate's ξ_|C|(θ) over its mean, {len(ok_abs)} "
-                  f"measurable runs, pooled fit of eq. 5.3's shape): a0 = {ct.fmt_pm(fit['a0'], fit['a0_error'])}, "
-                  f"θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} (χ²/dof = {fit['chi2_dof']:.2g})"
-                  + (f"; per-run a0 over the {len(dense)} runs with ξ/ξ_el ≥ {thr:g}: "
-                     f"{np.nanmin(cor['a0_abs'][dense]):.2f} to {np.nanmax(cor['a0_abs'][dense]):.2f}"
-                     if len(dense) else "") + "."]
+        lines += [
+            "",
+            f"Ours, decay length per direction (gf-correlate's ξ_|C|(θ) over its mean, {len(ok_abs)} "
+            f"measurable runs, pooled fit of eq. 5.3's shape): a0 = {ct.fmt_pm(fit['a0'], fit['a0_error'])}, "
+            f"θ0 = {ct.fmt_pm(fit['theta0'], fit['theta0_error'])} (χ²/dof = {fit['chi2_dof']:.2g})"
+            + (
+                f"; per-run a0 over the {len(dense)} runs with ξ/ξ_el ≥ {thr:g}: "
+                f"{np.nanmin(cor['a0_abs'][dense]):.2f} to {np.nanmax(cor['a0_abs'][dense]):.2f}"
+                if len(dense)
+                else ""
+            )
+            + ".",
+        ]
     # Clusters (Fig. 5.1).
     if clusters_path:
         cl_table = ct.read_table(clusters_path)
         cl, cr = cl_table["clusters"], cl_table["runs"]
-        lines += ["", quote("For e = 0.92 the interacting grains are well spaced and tend to occur in pairs, whereas "
-                            "for e = 0 the interacting grains tend to form large clusters.", "510"),
-                  "| run | window (steps) | grains in contact | clusters | largest | mean size |",
-                  "|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            quote(
+                "For e = 0.92 the interacting grains are well spaced and tend to occur in pairs, whereas "
+                "for e = 0 the interacting grains tend to form large clusters.",
+                "510",
+            ),
+            "| run | window (steps) | grains in contact | clusters | largest | mean size |",
+            "|---|---|---|---|---|---|",
+        ]
         for i in range(len(cr["input"])):
-            labels = cl["label"][cl["grain_offset"][i]:cl["grain_offset"][i + 1]]
+            labels = cl["label"][cl["grain_offset"][i] : cl["grain_offset"][i + 1]]
             sizes = np.bincount(labels)[1:]
             sizes = sizes[sizes > 0]
-            lines.append(f"| `{os.path.basename(cr['input'][i])}` | "
-                         f"{int(cl['last_step'][i] - cl['first_step'][i]) + 1} | {int((labels > 0).sum())} | "
-                         f"{len(sizes)} | {sizes.max() if len(sizes) else 0} | "
-                         f"{sizes.mean() if len(sizes) else 0:.2f} |")
+            lines.append(
+                f"| `{os.path.basename(cr['input'][i])}` | "
+                f"{int(cl['last_step'][i] - cl['first_step'][i]) + 1} | {int((labels > 0).sum())} | "
+                f"{len(sizes)} | {sizes.max() if len(sizes) else 0} | "
+                f"{sizes.mean() if len(sizes) else 0:.2f} |"
+            )
     return lines
 
 
@@ -489,11 +689,16 @@ def main():
         ap.error("--ch4-sweep, --ch4-bagnold and --ch4-reference go together")
     if bool(args.ch4_incline) != bool(args.ch4_critical):
         ap.error("--ch4-incline and --ch4-critical go together")
-    lines = [f"# granflow reproduction report (SIZE={args.size})", "",
-             "Generated by `make -f Makefile.sweeps`; every number below is read from the run files named.", "",
-             "## Packings (thesis App. A.3)", "",
-             "| file | N | target ν | achieved ν | max overlap / σ | seconds | seed |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        f"# granflow reproduction report (SIZE={args.size})",
+        "",
+        "Generated by `make -f Makefile.sweeps`; every number below is read from the run files named.",
+        "",
+        "## Packings (thesis App. A.3)",
+        "",
+        "| file | N | target ν | achieved ν | max overlap / σ | seconds | seed |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for name, n, nu, got, ov, sec, seed in packing_rows(args.packings):
         lines.append(f"| {name} | {n} | {nu:.3f} | {got:.12f} | {ov:.2e} | {sec:.2f} | {seed} |")
     if all(ch4):

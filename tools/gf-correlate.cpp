@@ -32,19 +32,20 @@ int whole(const CommandLine& cli, const std::string& name, long long lo) {
 
 int main(int argc, char** argv) {
   return run_tool("gf-correlate", [&] {
-    CommandLine cli("gf-correlate", "RUN.h5... -o OUT.h5 [options]",
-                    "Averages over the frames of each gf-shear trajectory past --from-strain: the force correlation\n"
-                    "C(l) of eq. 5.1 (total contact force F^i of every grain with a contact; isotropic in radial\n"
-                    "bins and as a map of lag vectors, exact pair sums over Lees-Edwards minimum images up to\n"
-                    "--max-lag), the correlation length xi of eq. 5.2, its angular dependence xi(theta) with the fit\n"
-                    "of eq. 5.3 (a0, theta0), and the distributions P(f) of normal forces and of the binary-collision\n"
-                    "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0; and xi_abs, the decay\n"
-                    "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the xi of the thesis' figures), per direction\n"
-                    "too, with a flag for correlations that reach the box. With reference runs (dilute, binary\n"
-                    "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
-                    "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak) over --blocks\n"
-                    "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
-                    "diameter sigma of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
+    CommandLine cli(
+        "gf-correlate", "RUN.h5... -o OUT.h5 [options]",
+        "Averages over the frames of each gf-shear trajectory past --from-strain: the force correlation\n"
+        "C(l) of eq. 5.1 (total contact force F^i of every grain with a contact; isotropic in radial\n"
+        "bins and as a map of lag vectors, exact pair sums over Lees-Edwards minimum images up to\n"
+        "--max-lag), the correlation length xi of eq. 5.2, its angular dependence xi(theta) with the fit\n"
+        "of eq. 5.3 (a0, theta0), and the distributions P(f) of normal forces and of the binary-collision\n"
+        "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0; and xi_abs, the decay\n"
+        "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the xi of the thesis' figures), per direction\n"
+        "too, with a flag for correlations that reach the box. With reference runs (dilute, binary\n"
+        "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
+        "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak) over --blocks\n"
+        "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
+        "diameter sigma of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
     cli.option("output", 'o', "FILE", "output HDF5 file");
     cli.option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
@@ -110,8 +111,8 @@ int main(int argc, char** argv) {
       s.xi_el = cli.real("xi-el");
       require_positive("xi-el", *s.xi_el);
     }
-    const std::vector<std::string> references = cli.given("reference") ? comma_list(cli.text("reference"))
-                                                                        : std::vector<std::string>{};
+    const std::vector<std::string> references =
+        cli.given("reference") ? comma_list(cli.text("reference")) : std::vector<std::string>{};
     if (cli.given("reference") && references.empty()) throw UsageError("option --reference: no file given");
     s.force_bin_width = cli.real("force-bin-width");
     require_positive("force-bin-width", s.force_bin_width);

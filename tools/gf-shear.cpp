@@ -91,10 +91,9 @@ int main(int argc, char** argv) {
         .input_path = input_path,
         .add_parameters =
             [&](io::Parameters& parameters) {
-              parameters.set("packing_fraction",
-                             std::accumulate(g.radius.begin(), g.radius.end(), 0.0,
-                                             [](double a, double r) { return a + M_PI * r * r; }) /
-                                 start.box.area());
+              parameters.set("packing_fraction", std::accumulate(g.radius.begin(), g.radius.end(), 0.0,
+                                                                 [](double a, double r) { return a + M_PI * r * r; }) /
+                                                     start.box.area());
               parameters.set("mean_radius", mean_radius);
               parameters.set("mean_mass", mean_mass);
               parameters.set("dt", dt);

@@ -167,9 +167,27 @@ run {steps}
 """
     with open(os.path.join(a.dir, "in.shear"), "w") as f:
         f.write(deck)
-    info = dict(packing=a.packing, grains=n, lx=lx, ly=ly, sigma=sigma, m_sigma=m_sigma, rate=rate, mach=a.mach,
-                c=c, k_n=kn, restitution=a.restitution, zeta=zeta, tsuji_argument=eprime, contact_time=tc, dt=dt,
-                steps_per_contact=1 / a.dt_fraction, steps=steps, sample_every=every, block_steps=block)
+    info = dict(
+        packing=a.packing,
+        grains=n,
+        lx=lx,
+        ly=ly,
+        sigma=sigma,
+        m_sigma=m_sigma,
+        rate=rate,
+        mach=a.mach,
+        c=c,
+        k_n=kn,
+        restitution=a.restitution,
+        zeta=zeta,
+        tsuji_argument=eprime,
+        contact_time=tc,
+        dt=dt,
+        steps_per_contact=1 / a.dt_fraction,
+        steps=steps,
+        sample_every=every,
+        block_steps=block,
+    )
     with open(os.path.join(a.dir, "deck.json"), "w") as f:
         json.dump(info, f, indent=1)
     print(json.dumps(info))
@@ -259,8 +277,11 @@ def _fit_table(files, nus, with_extra):
     """Weighted least-squares fit f = f0 + a·ds + b·log10(tol/1e-8) over every grid run: the
     time-step bias at the default ds = 1e-3 (a·1e-3) and the effect of one decade of tolerance,
     with errors scaled by √(χ²/dof) when that exceeds 1."""
-    print("### Fit over all grid runs" + (" (both grids)" if with_extra else "") +
-          ": f = f0 + a·ds + b·log10(tol/1e-8); bias of the default ds = 1e-3 is a·1e-3/f0\n")
+    print(
+        "### Fit over all grid runs"
+        + (" (both grids)" if with_extra else "")
+        + ": f = f0 + a·ds + b·log10(tol/1e-8); bias of the default ds = 1e-3 is a·1e-3/f0\n"
+    )
     print("| ν | quantity | runs | f0 (ds → 0) | bias at ds = 1e-3 | effect of ×10 tolerance | χ²/dof |")
     print("|---|---|---|---|---|---|---|")
     for nu in nus:
@@ -283,9 +304,11 @@ def _fit_table(files, nus, with_extra):
             c = np.linalg.lstsq(A, y / e, rcond=None)[0]
             chi2 = float(np.sum((A @ c - y / e) ** 2) / (len(y) - 3))
             err = np.sqrt(np.diag(np.linalg.inv(A.T @ A)) * max(chi2, 1.0))
-            print(f"| {nu} | {name} | {len(y)} | {_fmt(c[0], err[0])} | "
-                  f"{100 * c[1] * 1e-3 / c[0]:+.2f} ± {100 * err[1] * 1e-3 / c[0]:.2f} % | "
-                  f"{100 * c[2] / c[0]:+.2f} ± {100 * err[2] / c[0]:.2f} % | {chi2:.2f} |")
+            print(
+                f"| {nu} | {name} | {len(y)} | {_fmt(c[0], err[0])} | "
+                f"{100 * c[1] * 1e-3 / c[0]:+.2f} ± {100 * err[1] * 1e-3 / c[0]:.2f} % | "
+                f"{100 * c[2] / c[0]:+.2f} ± {100 * err[2] / c[0]:.2f} % | {chi2:.2f} |"
+            )
     print()
 
 
@@ -296,8 +319,10 @@ def cmd_report(a):
 
     nus = a.nus.split()
     out = a.dir
-    print(f"# Peer comparison, {os.uname().nodename}, {os.cpu_count()} cores, "
-          f"{open('/proc/cpuinfo').read().split('model name')[1].split(':')[1].splitlines()[0].strip()}\n")
+    print(
+        f"# Peer comparison, {os.uname().nodename}, {os.cpu_count()} cores, "
+        f"{open('/proc/cpuinfo').read().split('model name')[1].split(':')[1].splitlines()[0].strip()}\n"
+    )
     # --- timings
     path = os.path.join(out, "timings.tsv")
     if os.path.exists(path):
@@ -312,8 +337,10 @@ def cmd_report(a):
         order = sorted(sets, key=lambda k: (min(r[3] for r in sets[k]) if k[0] != "lammps" else "", k[0], k[2]))
         for key in order:
             v = sets[key]
-            print(f"| {key[0]} | {key[1]} | {key[2]} | {len(v)} | {_spread([r[0] for r in v])} | "
-                  f"{_spread([r[1] for r in v])} | {_spread([r[2] for r in v])} | {min(r[3] for r in v)[:16]} |")
+            print(
+                f"| {key[0]} | {key[1]} | {key[2]} | {len(v)} | {_spread([r[0] for r in v])} | "
+                f"{_spread([r[1] for r in v])} | {_spread([r[2] for r in v])} | {min(r[3] for r in v)[:16]} |"
+            )
         print()
     # --- physics
     print("## Steady state (strain ≥ 1, errors: block averages over 1 strain unit), γ̇ = 1, ρ = 1\n")
@@ -344,8 +371,10 @@ def cmd_report(a):
         if os.path.exists(gf):
             res["gf-shear defaults"] = steady(gf)
         for name, r in res.items():
-            print(f"| {nu} | {name} | {_fmt(r['p'], r['p_err'])} | {_fmt(r['s'], r['s_err'])} | "
-                  f"{_fmt(r['mu'], r['mu_err'])} | {_fmt(r['T'], r['T_err'])} |")
+            print(
+                f"| {nu} | {name} | {_fmt(r['p'], r['p_err'])} | {_fmt(r['s'], r['s_err'])} | "
+                f"{_fmt(r['mu'], r['mu_err'])} | {_fmt(r['T'], r['T_err'])} |"
+            )
         if "gf-shear defaults" in res and len(res) > 1:
             g = res["gf-shear defaults"]
             for name, r in res.items():
@@ -362,8 +391,10 @@ def cmd_report(a):
     files = sorted(glob.glob(os.path.join(out, "conv", "nu*_ds*_tol*.h5")))
     extra = [f for d in (a.extra_conv or []) for f in sorted(glob.glob(os.path.join(d, "nu*_ds*_tol*.h5")))]
     if files:
-        print("## Convergence of gf-shear's defaults (same packing, strain ≥ 1 averaged; "
-              "Δ = difference to the reference ds = 5e-4, tol = 1e-10 in units of the combined error)\n")
+        print(
+            "## Convergence of gf-shear's defaults (same packing, strain ≥ 1 averaged; "
+            "Δ = difference to the reference ds = 5e-4, tol = 1e-10 in units of the combined error)\n"
+        )
         print("| ν | --strain-step | --tolerance | p/γ̇² | s/p | T/γ̇² | Δp | Δ(s/p) | ΔT | sweeps/step | wall s |")
         print("|---|---|---|---|---|---|---|---|---|---|---|")
         all_stats = {}
@@ -391,9 +422,11 @@ def cmd_report(a):
                     else:
                         r = ref[2]
                         z.append(f"{(st[q] - r[q]) / math.hypot(st[q + '_err'], r[q + '_err']):+.1f}")
-                print(f"| {nu} | {ds} | {tol} | {_fmt(st['p'], st['p_err'])} | {_fmt(st['mu'], st['mu_err'])} | "
-                      f"{_fmt(st['T'], st['T_err'])} | {z[0]} | {z[1]} | {z[2]} | {run.get('mean_iterations', float('nan')):.1f} | "
-                      f"{run.get('wall_seconds', float('nan')):.1f} |")
+                print(
+                    f"| {nu} | {ds} | {tol} | {_fmt(st['p'], st['p_err'])} | {_fmt(st['mu'], st['mu_err'])} | "
+                    f"{_fmt(st['T'], st['T_err'])} | {z[0]} | {z[1]} | {z[2]} | {run.get('mean_iterations', float('nan')):.1f} | "
+                    f"{run.get('wall_seconds', float('nan')):.1f} |"
+                )
             all_stats[nu] = stats
         print()
         # pooled: runs at different settings are independent samples; pooling over the setting

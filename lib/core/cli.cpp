@@ -11,8 +11,7 @@
 namespace granflow {
 namespace {
 std::string shell_quote(const std::string& s) {
-  if (!s.empty() && s.find_first_not_of(
-                        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_./=:,+@%") ==
+  if (!s.empty() && s.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_./=:,+@%") ==
                         std::string::npos)
     return s;
   std::string q = "'";
@@ -77,13 +76,19 @@ bool CommandLine::parse(int argc, const char* const* argv) {
       positional_.push_back(arg);
       continue;
     }
-    if (arg == "--") { options_done = true; continue; }
+    if (arg == "--") {
+      options_done = true;
+      continue;
+    }
     Spec* spec = nullptr;
     std::optional<std::string> inline_value;
     if (arg.rfind("--", 0) == 0) {
       std::string name = arg.substr(2);
       auto eq = name.find('=');
-      if (eq != std::string::npos) { inline_value = name.substr(eq + 1); name = name.substr(0, eq); }
+      if (eq != std::string::npos) {
+        inline_value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+      }
       spec = find_long(name);
       if (!spec) throw UsageError("unknown option '--" + name + "' (see --help)");
     } else {
@@ -101,10 +106,15 @@ bool CommandLine::parse(int argc, const char* const* argv) {
       spec->value = argv[++i];
     }
   }
-  if (flag_set("help")) { std::fputs(help().c_str(), stdout); return false; }
-  if (flag_set("version")) { std::printf("%s %s\n", program_.c_str(), version().c_str()); return false; }
-  if (positional_.size() < positional_min_)
-    throw UsageError("missing " + positional_name_ + " argument (see --help)");
+  if (flag_set("help")) {
+    std::fputs(help().c_str(), stdout);
+    return false;
+  }
+  if (flag_set("version")) {
+    std::printf("%s %s\n", program_.c_str(), version().c_str());
+    return false;
+  }
+  if (positional_.size() < positional_min_) throw UsageError("missing " + positional_name_ + " argument (see --help)");
   return true;
 }
 
@@ -176,8 +186,7 @@ std::string CommandLine::help() const {
   return o.str();
 }
 
-void require_in_range(const std::string& option, double value, double lo, double hi, bool lo_open,
-                      bool hi_open) {
+void require_in_range(const std::string& option, double value, double lo, double hi, bool lo_open, bool hi_open) {
   bool ok = (lo_open ? value > lo : value >= lo) && (hi_open ? value < hi : value <= hi);
   if (!ok)
     throw UsageError("option --" + option + ": " + format_real(value) + " is outside " + (lo_open ? "(" : "[") +

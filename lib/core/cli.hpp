@@ -14,8 +14,8 @@ class CommandLine {
   CommandLine(std::string program, std::string synopsis, std::string description);
 
   // An option taking a value; an empty default means "no default" (see has()).
-  void option(const std::string& name, char short_name, const std::string& value_name,
-              const std::string& help, const std::string& default_value = "");
+  void option(const std::string& name, char short_name, const std::string& value_name, const std::string& help,
+              const std::string& default_value = "");
   void flag(const std::string& name, char short_name, const std::string& help);
   // Accept positional arguments (e.g. input files); min_count of them required.
   void positionals(const std::string& value_name, const std::string& help, std::size_t min_count);
@@ -23,11 +23,11 @@ class CommandLine {
   // Returns false when --help or --version was printed (the tool should exit 0).
   bool parse(int argc, const char* const* argv);
 
-  bool has(const std::string& name) const;  // given on the command line or defaulted
+  bool has(const std::string& name) const;    // given on the command line or defaulted
   bool given(const std::string& name) const;  // given on the command line
   bool flag_set(const std::string& name) const;
   std::string text(const std::string& name) const;
-  double real(const std::string& name) const;      // finite double, else UsageError
+  double real(const std::string& name) const;        // finite double, else UsageError
   long long integer(const std::string& name) const;  // whole number, else UsageError
   const std::vector<std::string>& positional() const { return positional_; }
 
@@ -62,8 +62,7 @@ class CommandLine {
 };
 
 // Validation helpers: throw UsageError("--name: must be ...").
-void require_in_range(const std::string& option, double value, double lo, double hi, bool lo_open,
-                      bool hi_open);
+void require_in_range(const std::string& option, double value, double lo, double hi, bool lo_open, bool hi_open);
 void require_positive(const std::string& option, double value);
 
 }  // namespace granflow

@@ -21,9 +21,9 @@ OutputFile::OutputFile(std::string final_path, bool resumable) : final_path_(std
   if (!fs::is_directory(dir, ec))
     throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' does not exist");
   if (fs::is_directory(p, ec)) throw UsageError("cannot write '" + final_path_ + "': it is a directory");
-  temp_path_ = (dir / ("." + p.filename().string() + (resumable ? std::string(".part")
-                                                                  : ".part-" + std::to_string(getpid()))))
-                   .string();
+  temp_path_ =
+      (dir / ("." + p.filename().string() + (resumable ? std::string(".part") : ".part-" + std::to_string(getpid()))))
+          .string();
   // Creating the temporary now is the only reliable writability test (root ignores
   // permission bits; read-only and virtual file systems refuse anyway).
   // No O_TRUNC: a resumable run must not destroy the partial output it will continue.

@@ -17,7 +17,10 @@ class Rng {
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   // Standard normal by Box–Muller (both draws used once each, for determinism).
   double normal() {
-    if (has_spare_) { has_spare_ = false; return spare_; }
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
     double u1 = 1.0 - uniform();  // (0, 1]
     double u2 = uniform();
     double r = std::sqrt(-2.0 * std::log(u1));

@@ -147,8 +147,8 @@ Clusters clusters_of(const Run& run, int window, long long frame) {
   try {
     c.label = contact_clusters(run.grains, pairs);
   } catch (const UsageError& e) {
-    throw UsageError("'" + run.path + "' frames " + std::to_string(c.first_frame) + "-" +
-                     std::to_string(c.last_frame) + ": " + e.what());
+    throw UsageError("'" + run.path + "' frames " + std::to_string(c.first_frame) + "-" + std::to_string(c.last_frame) +
+                     ": " + e.what());
   }
   c.last_step = last.step;
   c.position = last.position;
@@ -185,7 +185,8 @@ Run open_run(const std::string& path, double from_strain, bool detect_transient)
   if (detect_transient) {
     std::vector<std::vector<double>> series;
     for (const char* name : {"temperature", "pressure"}) {
-      if (!reader.has_observable(name)) throw bad(std::string("no /observables/") + name + " to detect the transient in");
+      if (!reader.has_observable(name))
+        throw bad(std::string("no /observables/") + name + " to detect the transient in");
       series.push_back(reader.observable_scalar(name));
       if (series.back().size() != observed.size())
         throw bad(std::string("/observables/") + name + " and /observables/strain differ in length");
@@ -303,8 +304,7 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     report.xi_abs_ratio_error.push_back(std::fabs(abs_ratio) *
                                         std::hypot(m.xi_error / m.xi, report.xi_abs_el_error / report.xi_abs_el));
     // Runs whose correlations reach the box stay out of ν_bc (their ξ_|C| measures the cell).
-    abs_points.push_back({run.packing_fraction, run.restitution, run.friction, m.measurable ? m.xi : kNaN,
-                          m.xi_error});
+    abs_points.push_back({run.packing_fraction, run.restitution, run.friction, m.measurable ? m.xi : kNaN, m.xi_error});
   }
   if (std::isfinite(report.xi_el))
     report.crossings = binary_collision_crossings(points, report.xi_el, report.xi_el_error, settings.threshold);

@@ -54,7 +54,7 @@ struct Settings {
 struct Run {
   std::string path;
   io::TrajectoryReader reader;
-  std::vector<std::size_t> frames{};  // past the transient
+  std::vector<std::size_t> frames{};         // past the transient
   double first_strain = 0, last_strain = 0;  // of those frames
   double packing_fraction = 0, restitution = 0, tangential_restitution = 0, friction = 0, rate = 0;
   double mean_diameter = 0;
@@ -68,14 +68,14 @@ struct Run {
 Run open_run(const std::string& path, double from_strain, bool detect_transient = false);
 
 struct RunResult {
-  std::vector<double> c, c_error;             // C̄ per radial bin
-  std::vector<double> xi_truncated;           // ξ with integrals up to each bin's upper edge
+  std::vector<double> c, c_error;    // C̄ per radial bin
+  std::vector<double> xi_truncated;  // ξ with integrals up to each bin's upper edge
   double xi = 0, xi_error = 0;
   std::vector<double> xi_theta, xi_theta_error;
   AnisotropyFit fit;
   MagnitudeLength magnitude;  // ξ_|C|, its tail share and flag, ξ_|C|(θ)
   AnisotropyFit fit_abs;      // eq. 5.3's shape fitted to ξ_|C|(θ) (see analysis.cpp)
-  std::vector<double> map;                    // C on the lag map
+  std::vector<double> map;    // C on the lag map
   Distribution normal, binary;
   PeakDecision peak;
   std::size_t contacts = 0;

@@ -104,8 +104,8 @@ AnisotropyFit fit_anisotropy(const std::vector<double>& theta, const std::vector
   gsl_blas_ddot(gsl_multifit_nlinear_residual(work.get()), gsl_multifit_nlinear_residual(work.get()), &chi2);
   const double dof = double(n - 2);
   fit.chi2_per_dof = dof > 0 ? chi2 / dof : AnisotropyFit::kNaN;
-  const double inflate = dof > 0 ? (weighted ? std::max(1.0, std::sqrt(chi2 / dof)) : std::sqrt(chi2 / dof))
-                                 : AnisotropyFit::kNaN;
+  const double inflate =
+      dof > 0 ? (weighted ? std::max(1.0, std::sqrt(chi2 / dof)) : std::sqrt(chi2 / dof)) : AnisotropyFit::kNaN;
   const gsl_vector* x = gsl_multifit_nlinear_position(work.get());
   double a0 = gsl_vector_get(x, 0), theta0 = gsl_vector_get(x, 1);
   if (a0 < 0) {

@@ -26,8 +26,8 @@ std::vector<double> coarse_sums(const PairSums& sums, const LagGrid& grid, int s
   } else {
     const std::vector<double>& by_sector = moment ? sums.sector_w : sums.sector_w_over_lag;
     for (int c = 0; c < nc; ++c)
-      out[std::size_t(c)] = by_sector[std::size_t(sector) * std::size_t(nc) + std::size_t(c)] /
-                            (2 * grid.sector_width() * sums.norm);
+      out[std::size_t(c)] =
+          by_sector[std::size_t(sector) * std::size_t(nc) + std::size_t(c)] / (2 * grid.sector_width() * sums.norm);
   }
   return out;
 }
@@ -98,8 +98,8 @@ MagnitudeLength magnitude_length(const std::vector<PairSums>& blocks, const LagG
         decay_length(bin_integrals(s, grid), bin_moments(s, grid), iso_floor, grid, settings.tail_from, settings.hard);
     std::vector<double> out{iso.xi, iso.tail_share};
     for (std::size_t k = 0; k < nk; ++k)
-      out.push_back(decay_length(bin_integrals(s, grid, int(k)), bin_moments(s, grid, int(k)), sector_floor[k],
-                                 grid, settings.tail_from, settings.hard)
+      out.push_back(decay_length(bin_integrals(s, grid, int(k)), bin_moments(s, grid, int(k)), sector_floor[k], grid,
+                                 settings.tail_from, settings.hard)
                         .xi);
     return out;
   };

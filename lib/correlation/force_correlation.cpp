@@ -113,8 +113,8 @@ class LagPairs {
         if (dv == 0 && du <= 0) continue;
         const Vec2 c = du * e1 + dv * e2;
         if (distance_to_parallelogram(c, e1, e2) >= cutoff) continue;
-        const double farthest = std::max({(c + e1 + e2).norm(), (c + e1 - e2).norm(), (c - e1 + e2).norm(),
-                                          (c - e1 - e2).norm()});
+        const double farthest =
+            std::max({(c + e1 + e2).norm(), (c + e1 - e2).norm(), (c - e1 + e2).norm(), (c - e1 - e2).norm()});
         stencil_.push_back({du, dv, farthest < cutoff * (1 - 1e-12)});  // margin for round-off
       }
   }

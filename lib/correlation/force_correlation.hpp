@@ -74,10 +74,10 @@ LoadedGrains loaded_grains(const io::Frame& frame);
 
 // Sums over pairs that are additive over frames (blocks of frames are sums of these).
 struct PairSums {
-  double norm = 0;                 // W = Σ_i F^i·F^i
-  std::vector<double> w;           // [radial_bins]   Σ_{i>j} F^i·F^j
-  std::vector<double> w_over_lag;  // [radial_bins]   Σ_{i>j} F^i·F^j / ℓ_ij
-  std::vector<double> sector;      // [angle_bins]    Σ_{i>j} F^i·F^j by angle of r_ij mod π
+  double norm = 0;                        // W = Σ_i F^i·F^i
+  std::vector<double> w;                  // [radial_bins]   Σ_{i>j} F^i·F^j
+  std::vector<double> w_over_lag;         // [radial_bins]   Σ_{i>j} F^i·F^j / ℓ_ij
+  std::vector<double> sector;             // [angle_bins]    Σ_{i>j} F^i·F^j by angle of r_ij mod π
   std::vector<double> sector_w;           // [angle_bins][coarse_bins]  Σ F^i·F^j by sector and coarse bin
   std::vector<double> sector_w_over_lag;  // [angle_bins][coarse_bins]  Σ F^i·F^j / ℓ_ij likewise
 
@@ -109,7 +109,7 @@ class Correlator {
 
 // Estimators from (summed) pair sums; NaN where undefined (W = 0 or empty sums).
 std::vector<double> isotropic_correlation(const PairSums& sums, const LagGrid& grid);  // C̄ per radial bin
-double correlation_length(const PairSums& sums);                                      // ξ, eq. 5.2
+double correlation_length(const PairSums& sums);                                       // ξ, eq. 5.2
 // ξ with both integrals truncated at the upper edge of each radial bin (convergence check).
 std::vector<double> truncated_correlation_length(const PairSums& sums);
 std::vector<double> angular_correlation_length(const PairSums& sums, const LagGrid& grid);  // ξ(θ_k)

@@ -45,10 +45,10 @@ Distribution force_distribution(const BlockSamples& blocks, double bin_width, do
 
 struct PeakDecision {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  int peak = -1;              // 1: P̂ rises from f = 0 (a peak at f > 0); 0: it falls; −1: no data
-  double confidence = kNaN;   // fraction of bootstrap replicates agreeing (NaN: < 2 blocks)
-  double mode = kNaN;         // f of the largest P̂
-  double ratio = kNaN;        // P̂(0)/P̂(mode) (1 when the maximum is at 0)
+  int peak = -1;             // 1: P̂ rises from f = 0 (a peak at f > 0); 0: it falls; −1: no data
+  double confidence = kNaN;  // fraction of bootstrap replicates agreeing (NaN: < 2 blocks)
+  double mode = kNaN;        // f of the largest P̂
+  double ratio = kNaN;       // P̂(0)/P̂(mode) (1 when the maximum is at 0)
 };
 
 PeakDecision decide_peak(const BlockSamples& blocks, double bandwidth, double max_f, int replicates,

@@ -149,8 +149,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
             "block-jackknife standard error of xi_abs (noise floors fixed at their full-sample values)", "length");
   magnitude("xi_abs_tail", &MagnitudeLength::tail_share,
             "share of sum_c l_c a_c (int l|C|) from coarse bins centred beyond abs_tail_from * max_lag", "1");
-  magnitude("xi_abs_tail_error", &MagnitudeLength::tail_share_error, "jackknife standard error of xi_abs_tail",
-            "1");
+  magnitude("xi_abs_tail_error", &MagnitudeLength::tail_share_error, "jackknife standard error of xi_abs_tail", "1");
   w.write("/correlation/measurable", {n}, int_column(n, [&](std::size_t i) { return res[i].magnitude.measurable; }),
           "1: xi_abs finite and xi_abs_tail <= abs_max_tail_share; 0: correlations reach the box (xi_abs measures "
           "the cell, the thesis' 'too large to be measured') or no signal; left out of nu_bc_abs",
@@ -158,8 +157,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
   std::vector<double> abs_theta, abs_theta_error;
   for (const auto& r : res) {
     abs_theta.insert(abs_theta.end(), r.magnitude.xi_theta.begin(), r.magnitude.xi_theta.end());
-    abs_theta_error.insert(abs_theta_error.end(), r.magnitude.xi_theta_error.begin(),
-                           r.magnitude.xi_theta_error.end());
+    abs_theta_error.insert(abs_theta_error.end(), r.magnitude.xi_theta_error.begin(), r.magnitude.xi_theta_error.end());
   }
   w.write("/correlation/xi_abs_theta", {n, nk}, abs_theta,
           "xi_abs of the radial profile of C(l, theta) averaged over the sector (angle of the lag modulo pi): a "
@@ -168,8 +166,8 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_abs_theta_error", {n, nk}, abs_theta_error, "jackknife standard error of xi_abs_theta",
           "length", per_run);
   auto fit_abs = [&](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
-    w.write(std::string("/correlation/") + name, {n},
-            column(n, [&](std::size_t i) { return res[i].fit_abs.*member; }), meaning, units, per_run);
+    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].fit_abs.*member; }),
+            meaning, units, per_run);
   };
   fit_abs("a0_abs", &AnisotropyFit::a0,
           "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean over the "
@@ -206,8 +204,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
   fit("theta0_error", &AnisotropyFit::theta0_error, "standard error of theta0", "radian");
   fit("fit_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of the eq. 5.3 fit", "1");
   w.write("/correlation/fit_weighted", {n}, int_column(n, [&](std::size_t i) { return res[i].fit.weighted; }),
-          "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter", "1",
-          per_run);
+          "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter", "1", per_run);
   std::vector<double> maps;
   for (const auto& r : res) maps.insert(maps.end(), r.map.begin(), r.map.end());
   w.write("/correlation/map", {n, nm, nm}, maps,
@@ -238,8 +235,10 @@ void write_report(const std::string& path, const Report& report, const io::Param
       e.insert(e.end(), (r.*member).error.begin(), (r.*member).error.end());
     }
     w.write("/forces/" + name, {n, centres.size()}, p, meaning, "1", per_run);
-    w.write("/forces/" + name + "_error", {n, centres.size()}, e, "jackknife standard error (each block left out "
-            "with its own mean force)", "1", per_run);
+    w.write("/forces/" + name + "_error", {n, centres.size()}, e,
+            "jackknife standard error (each block left out "
+            "with its own mean force)",
+            "1", per_run);
   };
   w.write("/forces/f", {centres.size()}, centres, "bin centre of f = F_n/<F_n>", "1");
   w.write("/forces/f_bc", {centres.size()}, centres, "bin centre of f_bc = F_bc/<F_bc>", "1");
@@ -250,22 +249,27 @@ void write_report(const std::string& path, const Report& report, const io::Param
   auto force_column = [&](const char* name, auto value, const char* meaning, const char* units) {
     w.write(std::string("/forces/") + name, {n}, column(n, value), meaning, units, per_run);
   };
-  force_column("mean_force", [&](std::size_t i) { return res[i].normal.mean; }, "<F_n> over all contacts", "force");
-  force_column("mean_force_error", [&](std::size_t i) { return res[i].normal.mean_error; },
-               "jackknife standard error of <F_n>", "force");
-  force_column("mean_binary_force", [&](std::size_t i) { return res[i].binary.mean; }, "<F_bc> over all contacts",
-               "force");
-  force_column("mean_binary_force_error", [&](std::size_t i) { return res[i].binary.mean_error; },
-               "jackknife standard error of <F_bc>", "force");
+  force_column(
+      "mean_force", [&](std::size_t i) { return res[i].normal.mean; }, "<F_n> over all contacts", "force");
+  force_column(
+      "mean_force_error", [&](std::size_t i) { return res[i].normal.mean_error; }, "jackknife standard error of <F_n>",
+      "force");
+  force_column(
+      "mean_binary_force", [&](std::size_t i) { return res[i].binary.mean; }, "<F_bc> over all contacts", "force");
+  force_column(
+      "mean_binary_force_error", [&](std::size_t i) { return res[i].binary.mean_error; },
+      "jackknife standard error of <F_bc>", "force");
   w.write("/forces/peak", {n}, int_column(n, [&](std::size_t i) { return res[i].peak.peak; }),
           "1: P(f) rises from f = 0 (a peak at f > 0); 0: it is largest at f = 0 (see the group's peak_rule)", "1",
           per_run);
-  force_column("peak_confidence", [&](std::size_t i) { return res[i].peak.confidence; },
-               "fraction of bootstrap replicates with the same peak decision (NaN with one block)", "1");
-  force_column("mode", [&](std::size_t i) { return res[i].peak.mode; },
-               "f at the maximum of the kernel density estimate", "1");
-  force_column("p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
-               "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
+  force_column(
+      "peak_confidence", [&](std::size_t i) { return res[i].peak.confidence; },
+      "fraction of bootstrap replicates with the same peak decision (NaN with one block)", "1");
+  force_column(
+      "mode", [&](std::size_t i) { return res[i].peak.mode; }, "f at the maximum of the kernel density estimate", "1");
+  force_column(
+      "p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
+      "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
 
   // ---- /reference
   if (!report.references.empty()) {
@@ -285,20 +289,27 @@ void write_report(const std::string& path, const Report& report, const io::Param
     const std::size_t g = c.size();
     io::Parameters sweep_attrs;
     sweep_attrs.set("threshold", s.threshold);
-    sweep_attrs.set("rule", "nu_bc: first upward crossing of xi/xi_el = threshold along nu within one (e, mu) "
-                            "series, linear interpolation between the bracketing runs (thesis Figs 5.9, 5.10)");
+    sweep_attrs.set("rule",
+                    "nu_bc: first upward crossing of xi/xi_el = threshold along nu within one (e, mu) "
+                    "series, linear interpolation between the bracketing runs (thesis Figs 5.9, 5.10)");
     w.write_attributes("/sweep", sweep_attrs);
     auto series = [&](const char* name, auto value, const char* meaning, const char* units) {
       w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
     };
-    series("restitution", [&](std::size_t k) { return c[k].restitution; }, "e of the series", "1");
-    series("friction", [&](std::size_t k) { return c[k].friction; }, "mu of the series", "1");
-    series("nu_bc", [&](std::size_t k) { return c[k].nu_bc; },
-           "packing fraction where xi/xi_el crosses the threshold (NaN unless status = 0)", "1");
-    series("nu_bc_error", [&](std::size_t k) { return c[k].nu_bc_error; },
-           "standard error of nu_bc from the errors of xi and xi_el (interpolation error not included)", "1");
-    series("nu_below", [&](std::size_t k) { return c[k].nu_below; }, "nu of the run below the crossing", "1");
-    series("nu_above", [&](std::size_t k) { return c[k].nu_above; }, "nu of the run above the crossing", "1");
+    series(
+        "restitution", [&](std::size_t k) { return c[k].restitution; }, "e of the series", "1");
+    series(
+        "friction", [&](std::size_t k) { return c[k].friction; }, "mu of the series", "1");
+    series(
+        "nu_bc", [&](std::size_t k) { return c[k].nu_bc; },
+        "packing fraction where xi/xi_el crosses the threshold (NaN unless status = 0)", "1");
+    series(
+        "nu_bc_error", [&](std::size_t k) { return c[k].nu_bc_error; },
+        "standard error of nu_bc from the errors of xi and xi_el (interpolation error not included)", "1");
+    series(
+        "nu_below", [&](std::size_t k) { return c[k].nu_below; }, "nu of the run below the crossing", "1");
+    series(
+        "nu_above", [&](std::size_t k) { return c[k].nu_above; }, "nu of the run above the crossing", "1");
     w.write("/sweep/runs", {g}, int_column(g, [&](std::size_t k) { return c[k].runs; }),
             "runs in the series (runs at equal nu are merged)", "1");
     w.write("/sweep/sign_changes", {g}, int_column(g, [&](std::size_t k) { return c[k].sign_changes; }),
@@ -312,32 +323,37 @@ void write_report(const std::string& path, const Report& report, const io::Param
       auto abs_series = [&](const char* name, auto value, const char* meaning, const char* units) {
         w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
       };
-      abs_series("nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
-                 "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)",
-                 "1");
-      abs_series("nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
-                 "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
-      abs_series("nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing",
-                 "1");
-      abs_series("nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing",
-                 "1");
+      abs_series(
+          "nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
+          "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)", "1");
+      abs_series(
+          "nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
+          "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
+      abs_series(
+          "nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing", "1");
+      abs_series(
+          "nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing", "1");
       w.write("/sweep/runs_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].runs; }),
               "measurable runs in the series", "1");
       w.write("/sweep/sign_changes_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].sign_changes; }),
               "sign changes of xi_abs/xi_abs_el - threshold along nu", "1");
       w.write("/sweep/status_abs", {g}, int_column(g, [&](std::size_t k) { return int(a[k].status); }),
               "as status, for xi_abs over the measurable runs", "1");
-      w.write("/sweep/regime_abs", {n}, int_column(n, [&](std::size_t i) {
-                const double q = report.xi_abs_ratio[i];
-                if (!res[i].magnitude.measurable) return -2;
-                return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
-              }),
+      w.write("/sweep/regime_abs", {n},
+              int_column(n,
+                         [&](std::size_t i) {
+                           const double q = report.xi_abs_ratio[i];
+                           if (!res[i].magnitude.measurable) return -2;
+                           return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
+                         }),
               "as regime, by xi_abs/xi_abs_el; -2 correlations reach the box (not measurable)", "1", per_run);
     }
-    w.write("/sweep/regime", {n}, int_column(n, [&](std::size_t i) {
-              const double q = report.xi_ratio[i];
-              return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
-            }),
+    w.write("/sweep/regime", {n},
+            int_column(n,
+                       [&](std::size_t i) {
+                         const double q = report.xi_ratio[i];
+                         return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
+                       }),
             "phase diagram (Fig. 5.10): 1 dense inertial (xi/xi_el >= threshold), 0 dilute (binary collisions), "
             "-1 unknown",
             "1", per_run);
@@ -356,8 +372,9 @@ void write_report(const std::string& path, const Report& report, const io::Param
     const auto& c = report.clusters;
     io::Parameters cluster_attrs;
     cluster_attrs.set("window", s.clusters_window);
-    cluster_attrs.set("rule", "grains in contact in any stored frame of the window, grouped into connected "
-                              "components of the union of the frames' contact graphs (thesis Fig. 5.1)");
+    cluster_attrs.set("rule",
+                      "grains in contact in any stored frame of the window, grouped into connected "
+                      "components of the union of the frames' contact graphs (thesis Fig. 5.1)");
     w.write_attributes("/clusters", cluster_attrs);
     w.write("/clusters/label", {label.size()}, label,
             "cluster of each grain: 0 no contact in the window, 1.. clusters by decreasing size; run k's grains "
@@ -378,8 +395,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
     }
     w.write("/clusters/first_step", {n}, first_step, "time step of the window's first frame", "1", per_run);
     w.write("/clusters/last_step", {n}, last_step, "time step of the window's last frame", "1", per_run);
-    w.write("/clusters/count", {n}, int_column(n, [&](std::size_t i) { return c[i].count; }), "clusters", "1",
-            per_run);
+    w.write("/clusters/count", {n}, int_column(n, [&](std::size_t i) { return c[i].count; }), "clusters", "1", per_run);
   }
   w.close();
 }

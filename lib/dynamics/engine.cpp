@@ -45,8 +45,8 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw UsageError(what);
 }
 
-void validate(const GrainState& s, const Box& box, double rate, const Material& m,
-              const SolverSettings& set, double dt, const Vec2& gravity) {
+void validate(const GrainState& s, const Box& box, double rate, const Material& m, const SolverSettings& set, double dt,
+              const Vec2& gravity) {
   const std::size_t n = s.size();
   require(n > 0, "no grains");
   require(n < (std::size_t(1) << 30), "more than 2^30 grains");
@@ -81,10 +81,10 @@ void validate(const GrainState& s, const Box& box, double rate, const Material& 
 
 }  // namespace
 
-Engine::Engine(GrainState state, Box box, double rate, Material material, SolverSettings settings,
-               double dt, Vec2 gravity)
-    : state_(std::move(state)), box_(box), rate_(rate), dt_(dt), material_(material),
-      settings_(settings), gravity_(gravity) {
+Engine::Engine(GrainState state, Box box, double rate, Material material, SolverSettings settings, double dt,
+               Vec2 gravity)
+    : state_(std::move(state)), box_(box), rate_(rate), dt_(dt), material_(material), settings_(settings),
+      gravity_(gravity) {
   validate(state_, box_, rate_, material_, settings_, dt_, gravity_);
   const std::size_t n = state_.size();
   double diameter_sum = 0;
@@ -112,8 +112,8 @@ void Engine::detect(bool moved) {
   const std::size_t n = state_.size();
   // max |ṽ| = √(max |ṽ|²), as fluctuating_velocity() computes ṽ.
   double vmax2 = 0;
-#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
-    reduction(max : vmax2)
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) reduction(max \
+                                                                                                              : vmax2)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2& v = state_.velocity[i];
     const double vx = v.x() - rate_ * (state_.position[i].y() - 0.5 * box_.ly);
@@ -370,8 +370,9 @@ void Engine::build_rows() {
 #pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static)
   for (std::ptrdiff_t h = 0; h < chunks; ++h) {
     const std::size_t first = h * chunk, last = std::min(count, std::size_t(first + chunk));
-    std::size_t p = std::lower_bound(prev_key_.begin(), prev_key_.end(),
-                                     pair_key(candidates_[first].i, candidates_[first].j())) - prev_key_.begin();
+    std::size_t p =
+        std::lower_bound(prev_key_.begin(), prev_key_.end(), pair_key(candidates_[first].i, candidates_[first].j())) -
+        prev_key_.begin();
     for (std::size_t c = first; c < last; ++c) build_row(c, p);
   }
 }
@@ -843,7 +844,8 @@ void Engine::solve_clusters() {
   // which couples nothing), read once: the passes below touch only this compact copy.
   const int threads = settings_.threads;
   gather(
-      std::ptrdiff_t(work_.size()), threads, chunk_start_, [&](std::ptrdiff_t q) { return (row_flags_[work_[q]] & kBearing) != 0; },
+      std::ptrdiff_t(work_.size()), threads, chunk_start_,
+      [&](std::ptrdiff_t q) { return (row_flags_[work_[q]] & kBearing) != 0; },
       [&](std::size_t kept) {
         fit_capacity(active_, kept);
         active_.resize(kept);
@@ -1254,9 +1256,7 @@ void Engine::record_contacts() {
   const bool flagged = material_.friction == 0;
   gather(
       std::ptrdiff_t(candidates_.size()), settings_.threads, chunk_start_,
-      [&](std::ptrdiff_t c) {
-        return flagged ? (row_flags_[row_of_[c]] & kBearing) != 0 : rows_[row_of_[c]].pn > 0;
-      },
+      [&](std::ptrdiff_t c) { return flagged ? (row_flags_[row_of_[c]] & kBearing) != 0 : rows_[row_of_[c]].pn > 0; },
       resize, record);
   report_.candidates = int(rows_.size());
   report_.contacts = int(records_.size());
@@ -1276,12 +1276,12 @@ void Engine::advance() {
   if (box_.periodic_y) box_.shift_offset(rate_ * box_.ly * dt_);
   const std::ptrdiff_t n = std::ptrdiff_t(state_.size());
   std::ptrdiff_t bad = n;  // first grain with a non-finite state
-#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) \
-    reduction(min : bad)
+#pragma omp parallel for num_threads(settings_.threads) if (settings_.threads > 1) schedule(static) reduction(min : bad)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     state_.position[i] += dt_ * state_.velocity[i];
     state_.orientation[i] += dt_ * state_.angular_velocity[i];
-    if (!(state_.position[i].allFinite() && state_.velocity[i].allFinite() && std::isfinite(state_.angular_velocity[i])))
+    if (!(state_.position[i].allFinite() && state_.velocity[i].allFinite() &&
+          std::isfinite(state_.angular_velocity[i])))
       bad = std::min(bad, i);
     else  // wrapped with the offset at the end of the step: the image the grain moved into
       box_.wrap(state_.position[i], state_.velocity[i], rate_);
@@ -1305,7 +1305,6 @@ const StepReport& Engine::step() {
   return report_;
 }
 
-
 void Engine::set_threads(int threads) {
   if (threads < 1) throw UsageError("threads must be at least 1");
   settings_.threads = threads;
@@ -1322,12 +1321,13 @@ std::size_t Engine::allocated_bytes() const {
   return blocks + bytes(s.position) + bytes(s.velocity) + bytes(s.orientation) + bytes(s.angular_velocity) +
          bytes(s.radius) + bytes(s.mass) + bytes(s.fixed) + bytes(pairs_) + bytes(candidates_) + bytes(bucket_) +
          bytes(scratch_) + bytes(body_of_) + bytes(strip_of_) + bytes(block_of_) + bytes(row_of_) + bytes(bodies_) +
-         bytes(rows_) + bytes(tangent_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) + bytes(in_work_) + bytes(row_flags_) +
-         bytes(moved_) + bytes(touched_) + bytes(tile_residual_) + bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) + bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) +
-         bytes(cluster_rows_) + bytes(body_start_) + bytes(body_rows_) + bytes(degree_) + bytes(unknown_) +
-         bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) + bytes(prev_age_) + bytes(r.pair) +
-         bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) + bytes(r.binary_force) +
-         bytes(r.pre_normal_velocity) + bytes(r.age);
+         bytes(rows_) + bytes(tangent_) + bytes(row_bodies_) + bytes(row_age_) + bytes(work_) + bytes(work_start_) +
+         bytes(in_work_) + bytes(row_flags_) + bytes(moved_) + bytes(touched_) + bytes(tile_residual_) +
+         bytes(tile_rows_) + bytes(active_) + bytes(large_) + bytes(cluster_order_) + bytes(chunk_start_) +
+         bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) + bytes(cluster_rows_) + bytes(body_start_) +
+         bytes(body_rows_) + bytes(degree_) + bytes(unknown_) + bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) +
+         bytes(prev_age_) + bytes(r.pair) + bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) +
+         bytes(r.binary_force) + bytes(r.pre_normal_velocity) + bytes(r.age);
 }
 
 ContactMemory Engine::memory() const {

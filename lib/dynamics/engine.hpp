@@ -91,19 +91,18 @@ struct SolverSettings {
 };
 
 struct StepReport {
-  std::int64_t step = 0;       // steps taken so far (1 after the first)
-  int iterations = 0;          // Gauss–Seidel sweeps
-  double residual = 0;         // final largest residual × dt (a length)
+  std::int64_t step = 0;  // steps taken so far (1 after the first)
+  int iterations = 0;     // Gauss–Seidel sweeps
+  double residual = 0;    // final largest residual × dt (a length)
   bool converged = true;
-  int candidates = 0;          // pairs handed to the solver
-  int contacts = 0;            // pairs with P_n > 0
+  int candidates = 0;                // pairs handed to the solver
+  int contacts = 0;                  // pairs with P_n > 0
   std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
-  int cluster_solves = 0;      // passes of exact solves of frictionless clusters
-  int largest_cluster = 0;     // active rows of the largest cluster solved exactly
-  bool pairs_rebuilt = false;  // the pair list was rebuilt for the next step
-  double max_overlap = 0;      // max(0, −g) over all pairs after the position update
+  int cluster_solves = 0;            // passes of exact solves of frictionless clusters
+  int largest_cluster = 0;           // active rows of the largest cluster solved exactly
+  bool pairs_rebuilt = false;        // the pair list was rebuilt for the next step
+  double max_overlap = 0;            // max(0, −g) over all pairs after the position update
 };
-
 
 // What a step passes to the next one: the contacts' forces (warm start P = F·dt) and
 // ages. Part of the dynamical state: a restart is bit-identical only if this is
@@ -120,8 +119,8 @@ class Engine {
  public:
   // rate: γ̇ (0 without shear; must be 0 for a box open in y). gravity: acceleration of
   // mobile grains. Throws UsageError on inconsistent or non-physical input.
-  Engine(GrainState state, Box box, double rate, Material material, SolverSettings settings,
-         double dt, Vec2 gravity = Vec2::Zero());
+  Engine(GrainState state, Box box, double rate, Material material, SolverSettings settings, double dt,
+         Vec2 gravity = Vec2::Zero());
 
   // Advances by dt; the report stays valid until the next step.
   const StepReport& step();
@@ -227,18 +226,19 @@ class Engine {
   // drift_ bounds how much any gap may have shrunk since.
   double skin_ = 0, reach_ = 0, drift_ = 0;
   std::vector<std::array<int, 2>> pairs_;
-  std::vector<Candidate> candidates_;  // sorted by (i, j)
+  std::vector<Candidate> candidates_;                     // sorted by (i, j)
   std::vector<std::vector<Candidate>> candidate_blocks_;  // per block of pairs, with threads
   std::vector<int> bucket_, scratch_;
 
-  std::vector<int> body_of_;    // grain → body (internal spatial order)
+  std::vector<int> body_of_;              // grain → body (internal spatial order)
   std::vector<int> strip_of_, block_of_;  // body → strip and column block of its tile
-  int strips_ = 1, tiles_ = 1;  // strips, and tiles per strip (tile = strip · tiles_ + block)
-  std::vector<int> row_of_;     // candidate → row (sweep order)
+  int strips_ = 1, tiles_ = 1;            // strips, and tiles per strip (tile = strip · tiles_ + block)
+  std::vector<int> row_of_;               // candidate → row (sweep order)
   std::vector<Body> bodies_;
   std::vector<Row> rows_;
   std::vector<Tangent> tangent_;  // per row with friction; empty without
-  std::vector<std::array<int, 2>> row_bodies_;  // per row: its mobile bodies (−1: fixed), compact for the cluster passes
+  std::vector<std::array<int, 2>>
+      row_bodies_;            // per row: its mobile bodies (−1: fixed), compact for the cluster passes
   std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
 
   // Gauss–Seidel state: the working set (rows grouped by tile, ascending within a tile;
@@ -247,10 +247,10 @@ class Engine {
   // a normal impulse (flags kHot, kBearing; without friction only).
   std::vector<int> work_, work_start_;
   std::vector<std::uint8_t> in_work_, row_flags_;
-  std::vector<std::uint8_t> moved_;  // per tile: corrected by Υ or more when last swept (or since marked)
+  std::vector<std::uint8_t> moved_;    // per tile: corrected by Υ or more when last swept (or since marked)
   std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
   std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
-  std::vector<int> tile_rows_;  // rows of tile t (see row_tile()): tile_rows_[t] … tile_rows_[t + 1] − 1
+  std::vector<int> tile_rows_;         // rows of tile t (see row_tile()): tile_rows_[t] … tile_rows_[t + 1] − 1
   int status_changes_ = 0, active_rows_ = 0;
 
   // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
@@ -260,8 +260,8 @@ class Engine {
     int cluster;  // root of its cluster, then the cluster's number
   };
   std::vector<ActiveRow> active_;
-  std::vector<int> large_;  // clusters solved with all threads
-  std::vector<int> cluster_order_;  // the others, in the order the threads take them
+  std::vector<int> large_;                // clusters solved with all threads
+  std::vector<int> cluster_order_;        // the others, in the order the threads take them
   std::vector<std::size_t> chunk_start_;  // first contact of each chunk of candidates
   std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;

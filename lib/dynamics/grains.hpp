@@ -23,10 +23,10 @@ struct Material {
 };
 
 struct GrainState {
-  std::vector<Vec2> position;             // wrapped into the box by the engine
-  std::vector<Vec2> velocity;             // lab frame
-  std::vector<double> orientation;        // θ (radians, unbounded)
-  std::vector<double> angular_velocity;   // ω, counter-clockwise positive
+  std::vector<Vec2> position;            // wrapped into the box by the engine
+  std::vector<Vec2> velocity;            // lab frame
+  std::vector<double> orientation;       // θ (radians, unbounded)
+  std::vector<double> angular_velocity;  // ω, counter-clockwise positive
   std::vector<double> radius;
   std::vector<double> mass;
   // 1: immobile (infinite mass and inertia): feels neither contacts nor gravity and keeps
@@ -43,9 +43,7 @@ double disk_mass(double radius);
 GrainState make_grains(std::vector<Vec2> positions, const std::vector<double>& radii);
 
 // Mean (streaming) velocity of simple shear at height y: γ̇·(y − Ly/2)·x̂.
-inline Vec2 streaming_velocity(const Box& box, double rate, double y) {
-  return Vec2(rate * (y - 0.5 * box.ly), 0.0);
-}
+inline Vec2 streaming_velocity(const Box& box, double rate, double y) { return Vec2(rate * (y - 0.5 * box.ly), 0.0); }
 
 // Adds the affine shear start (SLLOD initial condition, eq. 4.3): v_x += γ̇(y − Ly/2),
 // ω += −γ̇/2, to every mobile grain.

@@ -45,7 +45,8 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
   constexpr int kParallelRows = 2000;
   if (threads <= 1 || n < kParallelRows) {
     pattern_.resize(n);
-    for (int k = 0; k < n; ++k) pinned_ += factor_row(k, start.data(), row.data(), value.data(), drop, pattern_.data(), n);
+    for (int k = 0; k < n; ++k)
+      pinned_ += factor_row(k, start.data(), row.data(), value.data(), drop, pattern_.data(), n);
     return true;
   }
   // Each thread computes the rows of its subtrees in increasing order (all a row reads lies
@@ -75,8 +76,8 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
   return true;
 }
 
-bool SparseLdl::factor_row(int k, const int* start, const int* row, const double* value, double drop,
-                           int* pattern, int size) {
+bool SparseLdl::factor_row(int k, const int* start, const int* row, const double* value, double drop, int* pattern,
+                           int size) {
   const int last = size;  // the pattern fills pattern[top, last); paths are built from 0 up
   int top = last;
   flag_[k] = k;

@@ -38,8 +38,7 @@ class SparseLdl {
  private:
   // Row k of L and D (numeric phase); `pattern` is a thread's scratch of `size` ints, at
   // least the rows of k's subtree. Returns whether row k was pinned.
-  bool factor_row(int k, const int* start, const int* row, const double* value, double drop, int* pattern,
-                  int size);
+  bool factor_row(int k, const int* start, const int* row, const double* value, double drop, int* pattern, int size);
   // Sets bin_[k]: the thread that computes row k, or −1 for rows computed after all
   // threads are done (ancestors of the subtrees shared out).
   void share_out(int n, int threads);

@@ -21,8 +21,8 @@
 
 #include "dynamics/engine.hpp"
 #include "incline/profiles.hpp"
-#include "statistics/steady.hpp"
 #include "io/trajectory.hpp"
+#include "statistics/steady.hpp"
 
 namespace granflow {
 

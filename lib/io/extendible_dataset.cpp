@@ -11,8 +11,8 @@ constexpr unsigned kDeflateLevel = 4;
 
 }  // namespace
 
-ExtendibleDataset ExtendibleDataset::create(hid_t loc, const std::string& name, hid_t file_type,
-                                            hid_t mem_type, const std::vector<hsize_t>& inner) {
+ExtendibleDataset ExtendibleDataset::create(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                                            const std::vector<hsize_t>& inner) {
   hsize_t row_bytes = H5Tget_size(file_type);
   for (hsize_t d : inner) row_bytes *= d;
   std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(1, kChunkBytes / row_bytes)};
@@ -21,17 +21,17 @@ ExtendibleDataset ExtendibleDataset::create(hid_t loc, const std::string& name, 
     max_dims.push_back(d);
     chunk.push_back(d);
   }
-  Dataspace space(check(H5Screate_simple(int(dims.size()), dims.data(), max_dims.data()), loc,
-                        "create dataspace for " + name));
+  Dataspace space(
+      check(H5Screate_simple(int(dims.size()), dims.data(), max_dims.data()), loc, "create dataspace for " + name));
   PropList dcpl = creation_plist(H5P_DATASET_CREATE);
   check(H5Pset_chunk(dcpl.get(), int(chunk.size()), chunk.data()), loc, "chunk " + name);
   check(H5Pset_shuffle(dcpl.get()), loc, "set shuffle filter for " + name);
   check(H5Pset_deflate(dcpl.get(), kDeflateLevel), loc, "set deflate filter for " + name);
 
   ExtendibleDataset d;
-  d.dataset_ = Dataset(check(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT,
-                                        dcpl.get(), H5P_DEFAULT),
-                             loc, "create dataset " + name));
+  d.dataset_ =
+      Dataset(check(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), loc,
+                    "create dataset " + name));
   d.mem_type_ = mem_type;
   d.inner_ = inner;
   return d;
@@ -60,13 +60,11 @@ void ExtendibleDataset::append(const void* data, hsize_t rows) {
   start[0] = first;
   count.insert(count.end(), inner_.begin(), inner_.end());
   Dataspace file_space(check(H5Dget_space(id()), id(), "get dataspace"));
-  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
-                            nullptr),
-        id(), "select rows");
-  Dataspace mem_space(check(H5Screate_simple(int(count.size()), count.data(), nullptr), id(),
-                            "create memory dataspace"));
-  check(H5Dwrite(id(), mem_type_, mem_space.get(), file_space.get(), H5P_DEFAULT, data), id(),
-        "append rows");
+  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr), id(),
+        "select rows");
+  Dataspace mem_space(
+      check(H5Screate_simple(int(count.size()), count.data(), nullptr), id(), "create memory dataspace"));
+  check(H5Dwrite(id(), mem_type_, mem_space.get(), file_space.get(), H5P_DEFAULT, data), id(), "append rows");
 }
 
 void ExtendibleDataset::resize(hsize_t rows) {

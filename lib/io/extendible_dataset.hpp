@@ -15,12 +15,11 @@ class ExtendibleDataset {
   // Creates loc/name with shape [0]+inner. A chunk holds whole rows, about 64 KiB:
   // one frame of a large system, many frames of a small one.
   template <class T>
-  static ExtendibleDataset create(hid_t loc, const std::string& name,
-                                  const std::vector<hsize_t>& inner) {
+  static ExtendibleDataset create(hid_t loc, const std::string& name, const std::vector<hsize_t>& inner) {
     return create(loc, name, file_type<T>(), native_type<T>(), inner);
   }
-  static ExtendibleDataset create(hid_t loc, const std::string& name, hid_t file_type,
-                                  hid_t mem_type, const std::vector<hsize_t>& inner);
+  static ExtendibleDataset create(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                                  const std::vector<hsize_t>& inner);
   // Opens one made by create(), e.g. to resume appending; Hdf5Error if it cannot grow.
   template <class T>
   static ExtendibleDataset open(hid_t loc, const std::string& name) {

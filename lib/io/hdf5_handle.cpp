@@ -66,8 +66,7 @@ hid_t check_path(hid_t status, const std::string& path, std::string_view action)
 PropList file_access_plist() {
   silence_hdf5_errors();
   PropList fapl(check_path(H5Pcreate(H5P_FILE_ACCESS), "", "create file access list"));
-  check_path(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), "",
-             "set HDF5 format version");
+  check_path(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), "", "set HDF5 format version");
 #if H5_VERSION_GE(1, 10, 7)
   check_path(H5Pset_file_locking(fapl.get(), true, true), "", "set file locking");
 #endif
@@ -84,14 +83,14 @@ PropList creation_plist(hid_t plist_class) {
 File create_file(const std::string& path) {
   PropList fcpl = creation_plist(H5P_FILE_CREATE);
   PropList fapl = file_access_plist();
-  return File(check_path(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), path,
-                         "cannot create HDF5 file"));
+  return File(
+      check_path(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), path, "cannot create HDF5 file"));
 }
 
 File open_file(const std::string& path, bool writable) {
   PropList fapl = file_access_plist();
-  return File(check_path(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()),
-                         path, "cannot open as HDF5 (truncated or corrupt?)"));
+  return File(check_path(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()), path,
+                         "cannot open as HDF5 (truncated or corrupt?)"));
 }
 
 bool exists(hid_t loc, const std::string& path) {
@@ -101,8 +100,7 @@ bool exists(hid_t loc, const std::string& path) {
   while (start < path.size()) {
     std::size_t end = std::min(path.find('/', start), path.size());
     prefix += path.substr(start, end - start);
-    if (check(H5Lexists(loc, prefix.c_str(), H5P_DEFAULT), loc, "look up " + prefix) <= 0)
-      return false;
+    if (check(H5Lexists(loc, prefix.c_str(), H5P_DEFAULT), loc, "look up " + prefix) <= 0) return false;
     prefix += '/';
     start = end + 1;
   }
@@ -111,8 +109,7 @@ bool exists(hid_t loc, const std::string& path) {
 
 Group create_group(hid_t loc, const std::string& name) {
   PropList gcpl = creation_plist(H5P_GROUP_CREATE);
-  return Group(check(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), loc,
-                     "create group " + name));
+  return Group(check(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), loc, "create group " + name));
 }
 
 Group open_group(hid_t loc, const std::string& name) {
@@ -128,12 +125,10 @@ std::vector<std::string> link_names(hid_t group) {
   check(H5Gget_info(group, &info), group, "list group");
   std::vector<std::string> names;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    ssize_t n = check(H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                         H5P_DEFAULT),
-                      group, "list group");
+    ssize_t n = check(H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT), group,
+                      "list group");
     std::string name(std::size_t(n) + 1, '\0');
-    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
-                       H5P_DEFAULT);
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(), H5P_DEFAULT);
     name.resize(std::size_t(n));
     names.push_back(std::move(name));
   }
@@ -142,8 +137,7 @@ std::vector<std::string> link_names(hid_t group) {
 
 std::vector<hsize_t> shape(hid_t object) {
   bool is_attribute = H5Iget_type(object) == H5I_ATTR;
-  Dataspace space(check(is_attribute ? H5Aget_space(object) : H5Dget_space(object), object,
-                        "get dataspace"));
+  Dataspace space(check(is_attribute ? H5Aget_space(object) : H5Dget_space(object), object, "get dataspace"));
   int rank = check(H5Sget_simple_extent_ndims(space.get()), object, "get rank");
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
@@ -158,43 +152,34 @@ std::string shape_text(const std::vector<hsize_t>& dims) {
 }
 
 template <class T>
-void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
-                   const T* data) {
-  Dataspace space(check(H5Screate_simple(int(dims.size()), dims.data(), nullptr), loc,
-                        "create dataspace for " + name));
+void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims, const T* data) {
+  Dataspace space(check(H5Screate_simple(int(dims.size()), dims.data(), nullptr), loc, "create dataspace for " + name));
   PropList dcpl = creation_plist(H5P_DATASET_CREATE);
-  Dataset dataset(check(H5Dcreate2(loc, name.c_str(), file_type<T>(), space.get(), H5P_DEFAULT,
-                                   dcpl.get(), H5P_DEFAULT),
-                        loc, "create dataset " + name));
-  check(H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
-        dataset.get(), "write");
+  Dataset dataset(
+      check(H5Dcreate2(loc, name.c_str(), file_type<T>(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), loc,
+            "create dataset " + name));
+  check(H5Dwrite(dataset.get(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data), dataset.get(), "write");
 }
-template void write_dataset<double>(hid_t, const std::string&, const std::vector<hsize_t>&,
-                                    const double*);
-template void write_dataset<std::uint8_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
-                                          const std::uint8_t*);
-template void write_dataset<std::int32_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
-                                          const std::int32_t*);
-template void write_dataset<std::int64_t>(hid_t, const std::string&, const std::vector<hsize_t>&,
-                                          const std::int64_t*);
+template void write_dataset<double>(hid_t, const std::string&, const std::vector<hsize_t>&, const double*);
+template void write_dataset<std::uint8_t>(hid_t, const std::string&, const std::vector<hsize_t>&, const std::uint8_t*);
+template void write_dataset<std::int32_t>(hid_t, const std::string&, const std::vector<hsize_t>&, const std::int32_t*);
+template void write_dataset<std::int64_t>(hid_t, const std::string&, const std::vector<hsize_t>&, const std::int64_t*);
 
 void read_rows(hid_t dataset, hsize_t first, hsize_t count, hid_t mem_type, void* out) {
   std::vector<hsize_t> dims = shape(dataset);
   if (dims.empty() || first + count > dims[0])
-    throw Hdf5Error(where(dataset) + ": rows " + std::to_string(first) + "+" +
-                    std::to_string(count) + " outside " + shape_text(dims));
+    throw Hdf5Error(where(dataset) + ": rows " + std::to_string(first) + "+" + std::to_string(count) + " outside " +
+                    shape_text(dims));
   if (count == 0) return;
   Dataspace file_space(check(H5Dget_space(dataset), dataset, "get dataspace"));
   std::vector<hsize_t> start(dims.size(), 0), extent = dims;
   start[0] = first;
   extent[0] = count;
-  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(),
-                            nullptr),
-        dataset, "select rows");
-  Dataspace mem_space(check(H5Screate_simple(int(extent.size()), extent.data(), nullptr), dataset,
-                            "create memory dataspace"));
-  check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out), dataset,
-        "read");
+  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, extent.data(), nullptr), dataset,
+        "select rows");
+  Dataspace mem_space(
+      check(H5Screate_simple(int(extent.size()), extent.data(), nullptr), dataset, "create memory dataspace"));
+  check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out), dataset, "read");
 }
 
 namespace {
@@ -245,12 +230,10 @@ Datatype string_type(hid_t loc, std::size_t length) {
 void write_attribute_raw(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
                          const std::vector<hsize_t>& dims, const void* data) {
   delete_attribute_if_exists(loc, name);
-  Dataspace space(check(dims.empty() ? H5Screate(H5S_SCALAR)
-                                     : H5Screate_simple(int(dims.size()), dims.data(), nullptr),
+  Dataspace space(check(dims.empty() ? H5Screate(H5S_SCALAR) : H5Screate_simple(int(dims.size()), dims.data(), nullptr),
                         loc, "create dataspace for attribute " + name));
-  Attribute attribute(check(H5Acreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT,
-                                       H5P_DEFAULT),
-                            loc, "create attribute " + name));
+  Attribute attribute(check(H5Acreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), loc,
+                            "create attribute " + name));
   check(H5Awrite(attribute.get(), mem_type, data), loc, "write attribute " + name);
 }
 
@@ -273,8 +256,7 @@ T read_scalar(hid_t attribute) {
 }  // namespace
 
 void delete_attribute_if_exists(hid_t loc, const std::string& name) {
-  if (has_attribute(loc, name))
-    check(H5Adelete(loc, name.c_str()), loc, "delete attribute " + name);
+  if (has_attribute(loc, name)) check(H5Adelete(loc, name.c_str()), loc, "delete attribute " + name);
 }
 
 void write_attribute(hid_t loc, const std::string& name, double value) {
@@ -334,8 +316,7 @@ std::vector<std::int64_t> read_int_array_attribute(hid_t attribute) {
 
 std::vector<std::string> read_string_attributes(hid_t attribute) {
   Datatype type(check(H5Aget_type(attribute), attribute, "get attribute type"));
-  if (H5Tget_class(type.get()) != H5T_STRING)
-    throw Hdf5Error(where(attribute) + ": attribute is not a string");
+  if (H5Tget_class(type.get()) != H5T_STRING) throw Hdf5Error(where(attribute) + ": attribute is not a string");
   std::size_t count = element_count(attribute);
   std::vector<std::string> values;
   if (check(H5Tis_variable_str(type.get()), attribute, "inspect string type") > 0) {
@@ -364,8 +345,7 @@ std::vector<std::string> read_string_attributes(hid_t attribute) {
 std::string read_string_attribute(hid_t attribute) {
   std::vector<std::string> values = read_string_attributes(attribute);
   if (values.size() != 1)
-    throw Hdf5Error(where(attribute) + ": attribute holds " + std::to_string(values.size()) +
-                    " strings, expected one");
+    throw Hdf5Error(where(attribute) + ": attribute holds " + std::to_string(values.size()) + " strings, expected one");
   return values.front();
 }
 
@@ -381,8 +361,7 @@ herr_t collect_name(hid_t, const char* name, const H5A_info_t*, void* data) {
 std::vector<std::string> attribute_names(hid_t loc) {
   std::vector<std::string> names;
   hsize_t index = 0;
-  check(H5Aiterate2(loc, H5_INDEX_NAME, H5_ITER_INC, &index, collect_name, &names), loc,
-        "list attributes");
+  check(H5Aiterate2(loc, H5_INDEX_NAME, H5_ITER_INC, &index, collect_name, &names), loc, "list attributes");
   return names;
 }
 

@@ -78,17 +78,41 @@ T check(T status, hid_t loc, std::string_view action) {
 // Memory types for the element types granflow stores.
 template <class T>
 hid_t native_type();
-template <> inline hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
-template <> inline hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
-template <> inline hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
-template <> inline hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
+template <>
+inline hid_t native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <>
+inline hid_t native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
+template <>
+inline hid_t native_type<std::int32_t>() {
+  return H5T_NATIVE_INT32;
+}
+template <>
+inline hid_t native_type<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
 // Little-endian file types, so files are the same on every machine.
 template <class T>
 hid_t file_type();
-template <> inline hid_t file_type<double>() { return H5T_IEEE_F64LE; }
-template <> inline hid_t file_type<std::int64_t>() { return H5T_STD_I64LE; }
-template <> inline hid_t file_type<std::int32_t>() { return H5T_STD_I32LE; }
-template <> inline hid_t file_type<std::uint8_t>() { return H5T_STD_U8LE; }
+template <>
+inline hid_t file_type<double>() {
+  return H5T_IEEE_F64LE;
+}
+template <>
+inline hid_t file_type<std::int64_t>() {
+  return H5T_STD_I64LE;
+}
+template <>
+inline hid_t file_type<std::int32_t>() {
+  return H5T_STD_I32LE;
+}
+template <>
+inline hid_t file_type<std::uint8_t>() {
+  return H5T_STD_U8LE;
+}
 
 // File access: HDF5 1.8 object format (dense attribute storage, so a long command line
 // fits in an attribute; still readable by every HDF5 ≥ 1.8), and file locking that
@@ -117,8 +141,7 @@ std::string shape_text(const std::vector<hsize_t>& dims);
 
 // A fixed-size, contiguous dataset written in one go (per-grain properties).
 template <class T>
-void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
-                   const T* data);
+void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims, const T* data);
 // Rows [first, first+count) along the first dimension, all of the others.
 void read_rows(hid_t dataset, hsize_t first, hsize_t count, hid_t mem_type, void* out);
 template <class T>
@@ -143,7 +166,7 @@ double read_double_attribute(hid_t attribute);
 std::int64_t read_int_attribute(hid_t attribute);
 std::vector<std::int64_t> read_int_array_attribute(hid_t attribute);
 std::vector<std::string> read_string_attributes(hid_t attribute);  // any rank, flattened
-std::string read_string_attribute(hid_t attribute);                 // must hold one string
+std::string read_string_attribute(hid_t attribute);                // must hold one string
 // Names of a group's attributes, in name order.
 std::vector<std::string> attribute_names(hid_t loc);
 

@@ -1,7 +1,7 @@
 #pragma once
-// Provenance for /parameters (docs/file-format.md, Parameters and provenance): every option value, the exact command line,
-// the program and its version, and the identity of each input file, so that any
-// output can be traced back to the run and the code that made it.
+// Provenance for /parameters (docs/file-format.md, Parameters and provenance): every option value, the exact command
+// line, the program and its version, and the identity of each input file, so that any output can be traced back to the
+// run and the code that made it.
 #include <string>
 
 #include "core/cli.hpp"

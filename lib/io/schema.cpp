@@ -18,8 +18,7 @@ namespace {
 
 // Storage of one contact column as raw bytes: every column is a std::vector.
 template <auto Member>
-ContactColumn column(const std::string& name, hid_t file_type, hid_t mem_type,
-                     std::vector<hsize_t> inner) {
+ContactColumn column(const std::string& name, hid_t file_type, hid_t mem_type, std::vector<hsize_t> inner) {
   return {name,
           file_type,
           mem_type,
@@ -42,12 +41,10 @@ const std::vector<ContactColumn>& contact_columns() {
   static const std::vector<ContactColumn> columns{
       column<&ContactRecords::pair>("pair", H5T_STD_I32LE, H5T_NATIVE_INT32, {2}),
       column<&ContactRecords::normal_force>("normal_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}),
-      column<&ContactRecords::tangential_force>("tangential_force", H5T_IEEE_F64LE,
-                                                H5T_NATIVE_DOUBLE, {}),
+      column<&ContactRecords::tangential_force>("tangential_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}),
       column<&ContactRecords::branch>("branch", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {2}),
       column<&ContactRecords::binary_force>("binary_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}),
-      column<&ContactRecords::pre_normal_velocity>("pre_normal_velocity", H5T_IEEE_F64LE,
-                                                   H5T_NATIVE_DOUBLE, {2}),
+      column<&ContactRecords::pre_normal_velocity>("pre_normal_velocity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {2}),
       column<&ContactRecords::age>("age", H5T_STD_I64LE, H5T_NATIVE_INT64, {}),
   };
   return columns;
@@ -56,12 +53,10 @@ const std::vector<ContactColumn>& contact_columns() {
 bool read_periodic_y(hid_t file) {
   Group box = open_group(file, kBox);
   Attribute dimension = open_attribute(box.get(), "dimension");
-  if (read_int_attribute(dimension.get()) != 2)
-    throw Hdf5Error(where(box.get()) + ": attribute dimension must be 2");
+  if (read_int_attribute(dimension.get()) != 2) throw Hdf5Error(where(box.get()) + ": attribute dimension must be 2");
   Attribute boundary_attribute = open_attribute(box.get(), "boundary");
   std::vector<std::string> boundary = read_string_attributes(boundary_attribute.get());
-  if (boundary.size() != 2 || boundary[0] != "periodic" ||
-      (boundary[1] != "periodic" && boundary[1] != "none"))
+  if (boundary.size() != 2 || boundary[0] != "periodic" || (boundary[1] != "periodic" && boundary[1] != "none"))
     throw Hdf5Error(where(box.get()) +
                     ": attribute boundary must be [\"periodic\", \"periodic\"] or "
                     "[\"periodic\", \"none\"]");

@@ -65,10 +65,8 @@ class Parameters {
   void set(const std::string& name, const char* value) { values_[name] = std::string(value); }
   // Any other integer (int, unsigned, bool...) is stored as int64.
   template <class T>
-    requires std::is_integral_v<T>
-  void set(const std::string& name, T value) {
-    values_[name] = std::int64_t(value);
-  }
+  requires std::is_integral_v<T>
+  void set(const std::string& name, T value) { values_[name] = std::int64_t(value); }
 
   bool has(const std::string& name) const { return values_.contains(name); }
   // UsageError naming the parameter (and the file) if absent or of another type;
@@ -111,15 +109,14 @@ class TrajectoryWriter {
   // One row of /observables/<name>; steps of one observable must increase. Rows are
   // buffered and written in blocks, so calling this every simulation step is cheap.
   void append_observable(const std::string& name, std::int64_t step, double time, double value);
-  void append_observable(const std::string& name, std::int64_t step, double time,
-                         const Mat2& value);
+  void append_observable(const std::string& name, std::int64_t step, double time, const Mat2& value);
 
   // A fixed-size array of doubles written in one go at an absolute path such as
   // /profiles/velocity_x (missing parent groups are created; the path must be new), with
   // `attributes` (e.g. meaning, units) on the dataset. shape's product must equal
   // values.size(). For analysis results, e.g. gf-incline's depth profiles.
-  void write_array(const std::string& path, const std::vector<std::size_t>& shape,
-                   const std::vector<double>& values, const Parameters& attributes = {});
+  void write_array(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<double>& values,
+                   const Parameters& attributes = {});
 
   void flush();  // writes buffered rows and flushes the file
   void close();  // flush and close; further calls fail
@@ -164,9 +161,9 @@ class TrajectoryReader {
   std::vector<double> frame_times() const;
   bool has_contacts() const;
 
-  Parameters parameters() const;  // empty if the file has no /parameters
+  Parameters parameters() const;                               // empty if the file has no /parameters
   Parameters attributes(const std::string& group_path) const;  // empty if the group is absent
-  double lees_edwards_rate() const;  // 0 if absent
+  double lees_edwards_rate() const;                            // 0 if absent
 
   bool has_observable(const std::string& name) const;
   std::vector<std::string> observable_names() const;

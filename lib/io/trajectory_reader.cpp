@@ -42,8 +42,7 @@ struct TrajectoryReader::Impl {
     std::vector<hsize_t> dims = shape(dataset.get()), want{rows};
     want.insert(want.end(), inner.begin(), inner.end());
     if (dims != want)
-      bad(name + " has shape " + shape_text(dims) + " but must be " + expected + " = " +
-          shape_text(want));
+      bad(name + " has shape " + shape_text(dims) + " but must be " + expected + " = " + shape_text(want));
     return dataset;
   }
 
@@ -59,8 +58,7 @@ struct TrajectoryReader::Impl {
     frames = dims[0];
     grains = dims[1];
 
-    for (const char* name : {"radius", "mass", "fixed"})
-      checked(schema::kGrains + "/" + name, grains, {}, "[grains]");
+    for (const char* name : {"radius", "mass", "fixed"}) checked(schema::kGrains + "/" + name, grains, {}, "[grains]");
     require_group(schema::kBox, "not a granflow trajectory");
     periodic_y = schema::read_periodic_y(file.get());
     for (const auto& element : schema::frame_elements(grains, periodic_y)) {
@@ -89,8 +87,7 @@ struct TrajectoryReader::Impl {
 
   void require_frame(std::size_t k) const {
     if (k >= frames)
-      bad("frame " + std::to_string(k) + " out of range: the file has " + std::to_string(frames) +
-          " frames");
+      bad("frame " + std::to_string(k) + " out of range: the file has " + std::to_string(frames) + " frames");
   }
 
   Box box(std::size_t k) const {
@@ -219,8 +216,8 @@ std::size_t TrajectoryReader::frame_index(long long k) const {
   const long long frames = (long long)frame_count();
   const long long index = k < 0 ? k + frames : k;
   if (index < 0 || index >= frames)
-    throw UsageError("'" + impl_->path + "' has " + std::to_string(frames) + " frame(s); --frame " +
-                     std::to_string(k) + " is out of range");
+    throw UsageError("'" + impl_->path + "' has " + std::to_string(frames) + " frame(s); --frame " + std::to_string(k) +
+                     " is out of range");
   return std::size_t(index);
 }
 

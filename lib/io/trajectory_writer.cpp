@@ -94,8 +94,8 @@ struct TrajectoryWriter::Impl {
     Group group = create_group(id(), schema::kContacts);
     Contacts c;
     for (const auto& column : schema::contact_columns())
-      c.columns.push_back(ExtendibleDataset::create(group.get(), column.name, column.file_type,
-                                                    column.mem_type, column.inner));
+      c.columns.push_back(
+          ExtendibleDataset::create(group.get(), column.name, column.file_type, column.mem_type, column.inner));
     c.frame_offset = ExtendibleDataset::create<std::int64_t>(group.get(), "frame_offset", {});
     // Frames written before contacts were recorded have none.
     std::vector<std::int64_t> zeros(frames_before + 1, 0);
@@ -122,12 +122,11 @@ struct TrajectoryWriter::Impl {
     }
     Observable& o = it->second;
     if (o.width != width)
-      throw RuntimeFailure("'" + path + "': observable '" + name + "' is a " +
-                           (o.width == 1 ? "scalar" : "tensor") + ", cannot append a " +
-                           (width == 1 ? "scalar" : "tensor"));
+      throw RuntimeFailure("'" + path + "': observable '" + name + "' is a " + (o.width == 1 ? "scalar" : "tensor") +
+                           ", cannot append a " + (width == 1 ? "scalar" : "tensor"));
     if (o.last_step && step <= *o.last_step)
-      throw RuntimeFailure("'" + path + "': observable '" + name + "': step " +
-                           std::to_string(step) + " after step " + std::to_string(*o.last_step));
+      throw RuntimeFailure("'" + path + "': observable '" + name + "': step " + std::to_string(step) + " after step " +
+                           std::to_string(*o.last_step));
     o.last_step = step;
     return o;
   }
@@ -188,9 +187,9 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
   std::size_t n = grains.radius.size();
   if (n == 0) throw RuntimeFailure("'" + path + "': a trajectory needs at least one grain");
   if (grains.mass.size() != n || grains.fixed.size() != n)
-    throw RuntimeFailure("'" + path + "': grain properties of different sizes (radius " +
-                         std::to_string(n) + ", mass " + std::to_string(grains.mass.size()) +
-                         ", fixed " + std::to_string(grains.fixed.size()) + ")");
+    throw RuntimeFailure("'" + path + "': grain properties of different sizes (radius " + std::to_string(n) +
+                         ", mass " + std::to_string(grains.mass.size()) + ", fixed " +
+                         std::to_string(grains.fixed.size()) + ")");
 
   create_group(file, schema::kParticles);
   Group group = create_group(file, schema::kGrains);
@@ -215,8 +214,7 @@ void TrajectoryWriter::set_lees_edwards_rate(double rate) {
   hid_t file = impl_->id();
   const Content& c = impl_->content;
   if (c.grains == 0 || !c.periodic_y)
-    throw RuntimeFailure("'" + impl_->path +
-                         "': a Lees–Edwards rate needs write_grains() with a box periodic in y");
+    throw RuntimeFailure("'" + impl_->path + "': a Lees–Edwards rate needs write_grains() with a box periodic in y");
   Group group = open_group(file, schema::kLeesEdwards);
   write_attribute(group.get(), "rate", rate);
 }
@@ -228,9 +226,8 @@ void TrajectoryWriter::append_frame(const Frame& frame) {
   if (c.grains == 0) throw RuntimeFailure("'" + path + "': append_frame() before write_grains()");
   auto require_size = [&](const char* what, std::size_t size, std::size_t expected) {
     if (size != expected)
-      throw RuntimeFailure("'" + path + "': frame at step " + std::to_string(frame.step) + ": " +
-                           what + " has " + std::to_string(size) + " entries, expected " +
-                           std::to_string(expected));
+      throw RuntimeFailure("'" + path + "': frame at step " + std::to_string(frame.step) + ": " + what + " has " +
+                           std::to_string(size) + " entries, expected " + std::to_string(expected));
   };
   require_size("position", frame.position.size(), c.grains);
   require_size("velocity", frame.velocity.size(), c.grains);
@@ -239,41 +236,41 @@ void TrajectoryWriter::append_frame(const Frame& frame) {
   if (frame.box.periodic_y != c.periodic_y)
     throw RuntimeFailure("'" + path + "': frame box boundary differs from write_grains()");
   if (c.last_frame_step && frame.step <= *c.last_frame_step)
-    throw RuntimeFailure("'" + path + "': frame step " + std::to_string(frame.step) +
-                         " after step " + std::to_string(*c.last_frame_step));
+    throw RuntimeFailure("'" + path + "': frame step " + std::to_string(frame.step) + " after step " +
+                         std::to_string(*c.last_frame_step));
   const ContactRecords& contacts = frame.contacts;
   if (frame.has_contacts) {
     for (const auto& column : schema::contact_columns())
       require_size(("contacts " + column.name).c_str(), column.size(contacts), contacts.size());
     for (const auto& p : contacts.pair)
       if (p[0] < 0 || p[1] < 0 || std::size_t(p[0]) >= c.grains || std::size_t(p[1]) >= c.grains)
-        throw RuntimeFailure("'" + path + "': contact pair (" + std::to_string(p[0]) + ", " +
-                             std::to_string(p[1]) + ") outside the grains");
+        throw RuntimeFailure("'" + path + "': contact pair (" + std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                             ") outside the grains");
   }
 
   std::size_t frames_before = c.elements.front().value.rows();
   const double edges[4] = {frame.box.lx, 0.0, frame.box.offset, frame.box.ly};
   // One frame of each element, in schema::frame_elements() order.
-  const double* values[] = {frame.position.data()->data(), frame.velocity.data()->data(),
-                            frame.orientation.data(), frame.angular_velocity.data(), edges,
+  const double* values[] = {frame.position.data()->data(),
+                            frame.velocity.data()->data(),
+                            frame.orientation.data(),
+                            frame.angular_velocity.data(),
+                            edges,
                             &frame.box.offset};
-  for (std::size_t i = 0; i < c.elements.size(); ++i)
-    c.elements[i].append(&frame.step, &frame.time, values[i], 1);
+  for (std::size_t i = 0; i < c.elements.size(); ++i) c.elements[i].append(&frame.step, &frame.time, values[i], 1);
 
   if (frame.has_contacts && !c.contacts) impl_->create_contacts(frames_before);
   if (c.contacts) {
     std::size_t rows = frame.has_contacts ? contacts.size() : 0;
     const auto& columns = schema::contact_columns();
-    for (std::size_t i = 0; i < columns.size(); ++i)
-      c.contacts->columns[i].append(columns[i].data(contacts), rows);
+    for (std::size_t i = 0; i < columns.size(); ++i) c.contacts->columns[i].append(columns[i].data(contacts), rows);
     c.contacts->rows += std::int64_t(rows);
     c.contacts->frame_offset.append(&c.contacts->rows, 1);
   }
   c.last_frame_step = frame.step;
 }
 
-void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time,
-                                         double value) {
+void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time, double value) {
   Observable& o = impl_->observable(name, 1, step);
   o.steps.push_back(step);
   o.times.push_back(time);
@@ -281,8 +278,7 @@ void TrajectoryWriter::append_observable(const std::string& name, std::int64_t s
   if (o.steps.size() >= kObservableBlock) o.flush();
 }
 
-void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time,
-                                         const Mat2& value) {
+void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time, const Mat2& value) {
   Observable& o = impl_->observable(name, 4, step);
   o.steps.push_back(step);
   o.times.push_back(time);
@@ -298,8 +294,7 @@ void TrajectoryWriter::write_array(const std::string& path, const std::vector<st
   for (std::size_t d : dims) count *= d;
   if (path.empty() || path.front() != '/' || path.back() == '/' || count != values.size())
     throw RuntimeFailure("'" + impl_->path + "': cannot write array '" + path + "' of shape " +
-                         shape_text({dims.begin(), dims.end()}) + " from " + std::to_string(values.size()) +
-                         " values");
+                         shape_text({dims.begin(), dims.end()}) + " from " + std::to_string(values.size()) + " values");
   // Parent groups, one level at a time (HDF5 does not create intermediate groups by default).
   for (std::size_t slash = path.find('/', 1); slash != std::string::npos; slash = path.find('/', slash + 1)) {
     const std::string parent = path.substr(0, slash);
@@ -326,14 +321,13 @@ std::size_t TrajectoryWriter::frame_count() const {
 
 const std::string& TrajectoryWriter::path() const { return impl_->path; }
 
-TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path,
-                                                     std::size_t keep_frames,
+TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path, std::size_t keep_frames,
                                                      std::int64_t keep_observables_through_step) {
   {
     TrajectoryReader reader(path);  // the same checks and messages as any input
     if (keep_frames > reader.frame_count())
-      throw UsageError("'" + path + "': cannot keep " + std::to_string(keep_frames) +
-                       " frames, the file has " + std::to_string(reader.frame_count()));
+      throw UsageError("'" + path + "': cannot keep " + std::to_string(keep_frames) + " frames, the file has " +
+                       std::to_string(reader.frame_count()));
   }
   auto impl = std::make_unique<Impl>();
   impl->path = path;
@@ -370,8 +364,8 @@ TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path,
         o.element = Element::open(group.get(), name);
         const auto& inner = o.element.value.inner();
         if (!inner.empty() && inner != schema::kTensorShape)
-          throw UsageError("'" + path + "': observable '" + name + "' has rows of shape " +
-                           shape_text(inner) + ", expected scalars or [2][2]");
+          throw UsageError("'" + path + "': observable '" + name + "' has rows of shape " + shape_text(inner) +
+                           ", expected scalars or [2][2]");
         o.width = inner.empty() ? 1 : 4;
         std::vector<std::int64_t> steps = read_all<std::int64_t>(o.element.step.id());
         auto kept = std::upper_bound(steps.begin(), steps.end(), keep_observables_through_step);

@@ -46,8 +46,8 @@ class CellList {
   int nx_ = 0, ny_ = 0;
   double width_ = 0, height_ = 0, y0_ = 0;
   bool brute_ = true;
-  std::vector<int> start_;   // [nx*ny + 1] offsets into order_
-  std::vector<int> order_;   // grain indices sorted by cell
+  std::vector<int> start_;  // [nx*ny + 1] offsets into order_
+  std::vector<int> order_;  // grain indices sorted by cell
 };
 
 template <class F>

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-
 namespace granflow {
 
 void write_packing(const std::string& path, const Packing& packing, const io::Parameters& parameters) {

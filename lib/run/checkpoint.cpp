@@ -34,8 +34,7 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     if (extra) extra(writer);
     writer.close();
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0)
-    throw RuntimeFailure("cannot write checkpoint '" + path + "'");
+  if (std::rename(temp.c_str(), path.c_str()) != 0) throw RuntimeFailure("cannot write checkpoint '" + path + "'");
 }
 
 Checkpoint read_checkpoint(const std::string& path) {

@@ -13,12 +13,12 @@
 namespace granflow {
 
 struct RunStats {
-  std::int64_t frames_written = 0;    // frames in the partial trajectory
+  std::int64_t frames_written = 0;  // frames in the partial trajectory
   std::int64_t unconverged_steps = 0;
-  std::int64_t iterations = 0;        // Gauss–Seidel sweeps, summed over steps
-  std::int64_t contact_updates = 0;   // local contact solves, summed over steps
-  double max_residual = 0;            // largest final residual of any step (a length)
-  double wall_seconds = 0;            // of all invocations of the run (resumes)
+  std::int64_t iterations = 0;       // Gauss–Seidel sweeps, summed over steps
+  std::int64_t contact_updates = 0;  // local contact solves, summed over steps
+  double max_residual = 0;           // largest final residual of any step (a length)
+  double wall_seconds = 0;           // of all invocations of the run (resumes)
 };
 
 struct Checkpoint {

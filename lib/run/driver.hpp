@@ -13,13 +13,13 @@
 namespace granflow {
 
 struct RunPlan {
-  std::int64_t total_steps = 0;    // stop when the engine's step count reaches this
-  std::int64_t frame_every = 0;    // store a frame every this many steps (and at the end)
-  std::int64_t observe_every = 1;  // record observables every this many steps
-  double checkpoint_seconds = 600; // wall time between checkpoints; 0: only on a signal
-  std::string checkpoint_path;     // where checkpoints go
-  std::string signature;           // stored in checkpoints (what a resume must match)
-  double strain_per_step = 0;      // for the progress line (γ̇·dt); 0 shows time instead
+  std::int64_t total_steps = 0;     // stop when the engine's step count reaches this
+  std::int64_t frame_every = 0;     // store a frame every this many steps (and at the end)
+  std::int64_t observe_every = 1;   // record observables every this many steps
+  double checkpoint_seconds = 600;  // wall time between checkpoints; 0: only on a signal
+  std::string checkpoint_path;      // where checkpoints go
+  std::string signature;            // stored in checkpoints (what a resume must match)
+  double strain_per_step = 0;       // for the progress line (γ̇·dt); 0 shows time instead
   bool quiet = false;
   // Called after every step, before anything is recorded (gf-incline: checks that no
   // grain left the layer, samples the profiles); throws to abort the run. Optional.

@@ -19,8 +19,7 @@ void add_contact_options(CommandLine& cli) {
   cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
   cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
   cli.option("threads", 0, "N",
-             "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it",
-             "1");
+             "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
 }
 
 Material material_option(const CommandLine& cli) {
@@ -111,11 +110,10 @@ io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFil
                                                  checkpoint.step);
 }
 
-StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
-                           const RunStart& start) {
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out, const RunStart& start) {
   if (const std::optional<Checkpoint> checkpoint = resume_point(cli, plan, out)) {
-    Engine engine(grains_of(checkpoint->frame, checkpoint->grains), checkpoint->frame.box, start.rate,
-                  start.material, start.settings, start.dt, start.gravity);
+    Engine engine(grains_of(checkpoint->frame, checkpoint->grains), checkpoint->frame.box, start.rate, start.material,
+                  start.settings, start.dt, start.gravity);
     engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
     if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
     return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};

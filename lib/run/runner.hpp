@@ -82,8 +82,7 @@ struct StartedRun {
 // start of start.contacts, and a new output at out.temp_path() holding /parameters
 // (provenance, input, start.add_parameters), the grains, the Lees–Edwards rate (box
 // periodic in y) and the first frame (step 0, with start.contacts).
-StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
-                           const RunStart& start);
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out, const RunStart& start);
 
 // run_steps for a resumable output: on a signal the partial output and the checkpoint
 // are kept (and Interrupted is rethrown); on any other failure the checkpoint goes

@@ -39,8 +39,7 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
   const std::string& path = input.path();
   io::Frame frame = input.frame(input.frame_index(frame_index));
   io::GrainProperties properties = input.grains();
-  if (!frame.box.periodic_y)
-    throw UsageError("'" + path + "' is an incline packing (box open in y): use gf-incline");
+  if (!frame.box.periodic_y) throw UsageError("'" + path + "' is an incline packing (box open in y): use gf-incline");
   for (auto f : properties.fixed)
     if (f) throw UsageError("'" + path + "' has fixed grains: simple shear needs a biperiodic packing");
 
@@ -62,8 +61,8 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
   const double source_rate = input.lees_edwards_rate();
   if (source_rate != rate) {
     if (source_rate == 0 || rate == 0)
-      throw UsageError("'" + path + "' was run at rate " + std::to_string(source_rate) +
-                       ": branching to rate " + std::to_string(rate) +
+      throw UsageError("'" + path + "' was run at rate " + std::to_string(source_rate) + ": branching to rate " +
+                       std::to_string(rate) +
                        " is only possible between non-zero rates (start from a packing instead)");
     const double a = rate / source_rate;
     for (auto& v : start.grains.velocity) v *= a;

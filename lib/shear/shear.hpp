@@ -14,7 +14,7 @@ struct ShearStart {
   // Contacts of the stored frame (forces rescaled with the rate; empty for a packing):
   // the warm start of the first step, and the contacts of the run's first frame.
   io::ContactRecords contacts;
-  bool fresh = false;    // the input was at rest: affine flow or random velocities were set
+  bool fresh = false;  // the input was at rest: affine flow or random velocities were set
 };
 
 // The start of a shear run at rate γ̇ from frame `frame` (negative: from the end) of

@@ -24,7 +24,8 @@ double bootstrap_agreement(std::size_t blocks, int replicates, std::uint64_t see
                            const std::function<bool(std::span<const std::size_t>)>& agrees) {
   if (blocks < 2 || replicates < 1) return std::numeric_limits<double>::quiet_NaN();
   int agree = 0;
-  block_bootstrap(blocks, replicates, seed, [&](std::span<const std::size_t> draws) { agree += agrees(draws) ? 1 : 0; });
+  block_bootstrap(blocks, replicates, seed,
+                  [&](std::span<const std::size_t> draws) { agree += agrees(draws) ? 1 : 0; });
   return double(agree) / replicates;
 }
 

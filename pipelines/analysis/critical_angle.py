@@ -106,10 +106,21 @@ def analyse(paths, window, rest_velocity, drift):
             state, mean, err, change, change_err = classify(time, velocity, window, rest_velocity, drift)
         except (OSError, KeyError, ValueError) as exc:
             raise ValueError(f"{path}: {exc}") from exc
-        rows.append({"input": path, "input_sha256": sha256(path), "angle": prm["angle"],
-                     "friction": prm["friction"], "restitution": prm["restitution"], "mean_velocity": mean,
-                     "mean_velocity_error": err, "drift": change, "drift_error": change_err, "state": state,
-                     "flowing": int(state in FLOWING_STATES)})
+        rows.append(
+            {
+                "input": path,
+                "input_sha256": sha256(path),
+                "angle": prm["angle"],
+                "friction": prm["friction"],
+                "restitution": prm["restitution"],
+                "mean_velocity": mean,
+                "mean_velocity_error": err,
+                "drift": change,
+                "drift_error": change_err,
+                "state": state,
+                "flowing": int(state in FLOWING_STATES),
+            }
+        )
     frictions = {r["friction"] for r in rows}
     if len(frictions) > 1:
         raise ValueError(f"runs with different friction {sorted(frictions)}: one sweep at a time")
@@ -123,18 +134,24 @@ def analyse(paths, window, rest_velocity, drift):
     return rows, result
 
 
-MEANINGS = {"angle": "incline angle θ (degrees)", "friction": "μ", "restitution": "e",
-            "mean_velocity": "mean flow rate over the window, in √(g⟨R⟩)",
-            "mean_velocity_error": "its standard error (Flyvbjerg–Petersen blocking)",
-            "drift": "mean of the window's second half minus its first half, in √(g⟨R⟩)",
-            "drift_error": "its standard error", "state": "rest, steady, accelerating or decelerating",
-            "flowing": "1 for steady or accelerating flow"}
+MEANINGS = {
+    "angle": "incline angle θ (degrees)",
+    "friction": "μ",
+    "restitution": "e",
+    "mean_velocity": "mean flow rate over the window, in √(g⟨R⟩)",
+    "mean_velocity_error": "its standard error (Flyvbjerg–Petersen blocking)",
+    "drift": "mean of the window's second half minus its first half, in √(g⟨R⟩)",
+    "drift_error": "its standard error",
+    "state": "rest, steady, accelerating or decelerating",
+    "flowing": "1 for steady or accelerating flow",
+}
 
 
 def write_table(output, rows, result, args, command_line):
     parameters = {"window": args["window"], "rest_velocity": args["rest_velocity"], "drift": args["drift"]}
-    with outputs.table(output, os.path.abspath(__file__), command_line, parameters,
-                       [(r["input"], r["input_sha256"]) for r in rows]) as f:
+    with outputs.table(
+        output, os.path.abspath(__file__), command_line, parameters, [(r["input"], r["input_sha256"]) for r in rows]
+    ) as f:
         runs = f["runs"]
         outputs.text_dataset(runs, "state", [r["state"] for r in rows])
         for col in MEANINGS:
@@ -143,8 +160,10 @@ def write_table(output, rows, result, args, command_line):
             runs[col].attrs["meaning"] = MEANINGS[col]
         g = f.create_group("critical_angle")
         g.attrs.update(result)
-        g.attrs["meaning"] = ("θ_c in (theta_below, theta_above] degrees, theta_c the midpoint ± half_width; "
-                              "consistent = 0 if an angle below theta_below flows")
+        g.attrs["meaning"] = (
+            "θ_c in (theta_below, theta_above] degrees, theta_c the midpoint ± half_width; "
+            "consistent = 0 if an angle below theta_below flows"
+        )
 
 
 def read_table(path):
@@ -157,10 +176,18 @@ def read_table(path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--window", type=float, default=100.0, help="analyse the last T τ of each run (100)")
-    ap.add_argument("--rest-velocity", type=float, default=0.02,
-                    help="a mean flow rate below this, in √(g⟨R⟩), counts as rest (0.02)")
-    ap.add_argument("--drift", type=float, default=0.15,
-                    help="relative change between the window's halves still taken as steady (0.15)")
+    ap.add_argument(
+        "--rest-velocity",
+        type=float,
+        default=0.02,
+        help="a mean flow rate below this, in √(g⟨R⟩), counts as rest (0.02)",
+    )
+    ap.add_argument(
+        "--drift",
+        type=float,
+        default=0.15,
+        help="relative change between the window's halves still taken as steady (0.15)",
+    )
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("runs", nargs="+", help="gf-incline trajectories at several angles, one friction")
     args = ap.parse_args()
@@ -174,9 +201,11 @@ def main():
         sys.exit(2)
     write_table(args.output, rows, result, vars(args), shlex.join(sys.argv))
     below, above = result["theta_below"], result["theta_above"]
-    print(f"critical_angle.py: θ_c in ({below:g}°, {above:g}°]" +
-          (f" = {result['theta_c']:g}° ± {result['half_width']:g}°" if math.isfinite(result["theta_c"]) else ""),
-          file=sys.stderr)
+    print(
+        f"critical_angle.py: θ_c in ({below:g}°, {above:g}°]"
+        + (f" = {result['theta_c']:g}° ± {result['half_width']:g}°" if math.isfinite(result["theta_c"]) else ""),
+        file=sys.stderr,
+    )
 
 
 if __name__ == "__main__":

@@ -45,10 +45,31 @@ import numpy as np
 from granflow_py import outputs
 from granflow_py.hdf5 import read_attrs, sha256
 
-PROFILE_NAMES = ("y", "packing_fraction", "velocity_x", "shear_rate", "temperature", "pressure", "shear_stress",
-                 "stress_xx", "stress_yy", "weight_above", "s_over_p", "inertial", "mT_over_pR2")
-PARAMETERS = {"angle": float, "friction": float, "restitution": float, "grains": int, "tau": float,
-              "gravity": float, "dt": float, "total_steps": int}
+PROFILE_NAMES = (
+    "y",
+    "packing_fraction",
+    "velocity_x",
+    "shear_rate",
+    "temperature",
+    "pressure",
+    "shear_stress",
+    "stress_xx",
+    "stress_yy",
+    "weight_above",
+    "s_over_p",
+    "inertial",
+    "mT_over_pR2",
+)
+PARAMETERS = {
+    "angle": float,
+    "friction": float,
+    "restitution": float,
+    "grains": int,
+    "tau": float,
+    "gravity": float,
+    "dt": float,
+    "total_steps": int,
+}
 BULK = {"packing_fraction": "ν", "s_over_p": "s/p", "inertial": "γ̇⟨R⟩/√T", "mT_over_pR2": "mT/(p⟨R⟩²)"}
 MIN_FLOW = 0.05  # a bulk layer slower than this (in √(g⟨R⟩)) does not flow
 EXPONENTS = np.arange(0.2, 4.0 + 1e-9, 1e-3)
@@ -75,10 +96,14 @@ def read_run(path):
     for k in ("mean_radius", "mean_mass", "layer_length", "bin", "steady", "steady_from_tau"):
         if k not in pattrs:
             raise ValueError(f"/profiles lacks the attribute {k}")
-    params.update(mean_radius=float(pattrs["mean_radius"]), mean_mass=float(pattrs["mean_mass"]),
-                  layer_length=float(pattrs["layer_length"]), steady=int(pattrs["steady"]),
-                  steady_from_tau=float(pattrs["steady_from_tau"]),
-                  steady_from_given=int(pattrs.get("steady_from_given", 0)))
+    params.update(
+        mean_radius=float(pattrs["mean_radius"]),
+        mean_mass=float(pattrs["mean_mass"]),
+        layer_length=float(pattrs["layer_length"]),
+        steady=int(pattrs["steady"]),
+        steady_from_tau=float(pattrs["steady_from_tau"]),
+        steady_from_given=int(pattrs.get("steady_from_given", 0)),
+    )
     return {"parameters": params, "profiles": prof, "bin": float(pattrs["bin"])}
 
 
@@ -122,7 +147,7 @@ def fit_bagnold(y, v, height):
         raise ValueError("the V_x fit got a layer above the surface")
     best = (math.inf, math.nan, math.nan, math.nan)
     for a in EXPONENTS:
-        x = np.vstack([np.ones_like(depth), -depth ** a]).T
+        x = np.vstack([np.ones_like(depth), -(depth**a)]).T
         coef, _, _, _ = np.linalg.lstsq(x, v, rcond=None)
         r = float(np.sum((x @ coef - v) ** 2))
         if r < best[0]:
@@ -137,11 +162,17 @@ def analyse_run(run, base_skip, surface_skip):
     y = prof["y"]
     height, idx, nu_bulk = bulk_layers(run, base_skip, surface_skip)
     if len(idx) < 2:
-        raise ValueError(f"only {len(idx)} bulk layers between {base_skip} diameters above the base and "
-                         f"{surface_skip} below the surface (H = {height / d:.1f} diameters); lower "
-                         "--base-skip/--surface-skip or use a thicker layer")
-    row = {"surface_height": height, "bulk_layers": len(idx), "bulk_from": float(y[idx[0]]),
-           "bulk_to": float(y[idx[-1]])}
+        raise ValueError(
+            f"only {len(idx)} bulk layers between {base_skip} diameters above the base and "
+            f"{surface_skip} below the surface (H = {height / d:.1f} diameters); lower "
+            "--base-skip/--surface-skip or use a thicker layer"
+        )
+    row = {
+        "surface_height": height,
+        "bulk_layers": len(idx),
+        "bulk_from": float(y[idx[0]]),
+        "bulk_to": float(y[idx[-1]]),
+    }
     scale = math.sqrt(prm["gravity"] * prm["mean_radius"])
     v = prof["velocity_x"] / scale
     # A layer that does not flow (θ < θ_c) has no defined rheology: NaN everywhere but ν.
@@ -161,8 +192,9 @@ def analyse_run(run, base_skip, surface_skip):
     row["velocity_exponent_full"], row["surface_velocity"], _ = fit_bagnold(y[fit], v[fit], height)
     row["velocity_exponent"] = fit_bagnold(y[idx], v[idx], height)[0] if len(idx) >= 3 else math.nan
     positive = idx[v[idx] > 0]
-    row["power_law_exponent"] = (float(np.polyfit(np.log(y[positive]), np.log(v[positive]), 1)[0])
-                                 if len(positive) >= 2 else math.nan)
+    row["power_law_exponent"] = (
+        float(np.polyfit(np.log(y[positive]), np.log(v[positive]), 1)[0]) if len(positive) >= 2 else math.nan
+    )
     return row
 
 
@@ -183,23 +215,40 @@ def plot_input(doc, prog):
     return args, run, row
 
 
-RUN_COLUMNS = ("angle", "friction", "restitution", "grains", "layer_length", "mean_radius", "mean_mass", "tau",
-               "gravity", "time", "steady", "steady_from_tau", "steady_from_given")
-GROUPS = {"runs": ("surface_height", "bulk_layers", "bulk_from", "bulk_to", "flowing"),
-          "bulk": tuple(n + s for n in BULK for s in ("", "_error", "_drift")),
-          "balance": ("yy_max_deviation", "xy_max_deviation"),
-          "fit": ("velocity_exponent", "velocity_exponent_full", "power_law_exponent", "surface_velocity")}
-MEANINGS = {"flowing": f"1 if every bulk layer moves faster than {MIN_FLOW} √(g⟨R⟩) (else the other "
-                       "bulk and fit values are NaN but ν)",
-            "surface_height": "H = Σm/(L_x ν_bulk), from the base centre line (code units)",
-            "bulk_layers": "number of bulk layers", "bulk_from": "centre of the lowest bulk layer (code units)",
-            "bulk_to": "centre of the highest bulk layer (code units)",
-            "yy_max_deviation": "max over bulk layers of |Σ_yy/(g cos θ W) − 1| (eq. 4.8)",
-            "xy_max_deviation": "max over bulk layers of |s/(g sin θ W) − 1| (eq. 4.9)",
-            "velocity_exponent": "a of V_x = V_s − c (H − y)^a, bulk layers",
-            "velocity_exponent_full": "a of V_x = V_s − c (H − y)^a, layers from the base skip to the surface",
-            "surface_velocity": "V_s of the fit from the base skip to the surface, in √(g⟨R⟩)",
-            "power_law_exponent": "b of V_x ∝ y^b, bulk layers",
+RUN_COLUMNS = (
+    "angle",
+    "friction",
+    "restitution",
+    "grains",
+    "layer_length",
+    "mean_radius",
+    "mean_mass",
+    "tau",
+    "gravity",
+    "time",
+    "steady",
+    "steady_from_tau",
+    "steady_from_given",
+)
+GROUPS = {
+    "runs": ("surface_height", "bulk_layers", "bulk_from", "bulk_to", "flowing"),
+    "bulk": tuple(n + s for n in BULK for s in ("", "_error", "_drift")),
+    "balance": ("yy_max_deviation", "xy_max_deviation"),
+    "fit": ("velocity_exponent", "velocity_exponent_full", "power_law_exponent", "surface_velocity"),
+}
+MEANINGS = {
+    "flowing": f"1 if every bulk layer moves faster than {MIN_FLOW} √(g⟨R⟩) (else the other "
+    "bulk and fit values are NaN but ν)",
+    "surface_height": "H = Σm/(L_x ν_bulk), from the base centre line (code units)",
+    "bulk_layers": "number of bulk layers",
+    "bulk_from": "centre of the lowest bulk layer (code units)",
+    "bulk_to": "centre of the highest bulk layer (code units)",
+    "yy_max_deviation": "max over bulk layers of |Σ_yy/(g cos θ W) − 1| (eq. 4.8)",
+    "xy_max_deviation": "max over bulk layers of |s/(g sin θ W) − 1| (eq. 4.9)",
+    "velocity_exponent": "a of V_x = V_s − c (H − y)^a, bulk layers",
+    "velocity_exponent_full": "a of V_x = V_s − c (H − y)^a, layers from the base skip to the surface",
+    "surface_velocity": "V_s of the fit from the base skip to the surface, in √(g⟨R⟩)",
+    "power_law_exponent": "b of V_x ∝ y^b, bulk layers",
 }
 for _n, _label in BULK.items():
     MEANINGS[_n] = f"{_label}: mean over the bulk layers"
@@ -223,18 +272,25 @@ def analyse(paths, base_skip, surface_skip):
 
 
 def write_table(output, rows, base_skip, surface_skip, command_line):
-    with outputs.table(output, os.path.abspath(__file__), command_line,
-                       {"base_skip": base_skip, "surface_skip": surface_skip},
-                       [(r["input"], r["input_sha256"]) for r in rows]) as f:
+    with outputs.table(
+        output,
+        os.path.abspath(__file__),
+        command_line,
+        {"base_skip": base_skip, "surface_skip": surface_skip},
+        [(r["input"], r["input_sha256"]) for r in rows],
+    ) as f:
         runs = f["runs"]
         outputs.text_dataset(runs, "start", [r["start"] for r in rows])
-        runs["start"].attrs["meaning"] = "file the run started from (its /parameters input): a pack or, for a " \
-                                         "branch, the parent run"
+        runs["start"].attrs["meaning"] = (
+            "file the run started from (its /parameters input): a pack or, for a " "branch, the parent run"
+        )
         for col in RUN_COLUMNS:
             runs.create_dataset(col, data=np.array([r[col] for r in rows]))
             runs[col].attrs["meaning"] = f"the run's parameter or /profiles attribute '{col}'"
-        for col, meaning in (("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
-                             ("start_friction", "friction of the parent run (NaN: started from a pack)")):
+        for col, meaning in (
+            ("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
+            ("start_friction", "friction of the parent run (NaN: started from a pack)"),
+        ):
             runs.create_dataset(col, data=np.array([r[col] for r in rows]))
             runs[col].attrs["meaning"] = meaning
         for group, names in GROUPS.items():
@@ -251,10 +307,12 @@ def read_table(path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--base-skip", type=float, default=3.0, help="bulk starts this many mean diameters above "
-                    "the base (3)")
-    ap.add_argument("--surface-skip", type=float, default=8.0, help="bulk ends this many mean diameters below "
-                    "the surface (8)")
+    ap.add_argument(
+        "--base-skip", type=float, default=3.0, help="bulk starts this many mean diameters above " "the base (3)"
+    )
+    ap.add_argument(
+        "--surface-skip", type=float, default=8.0, help="bulk ends this many mean diameters below " "the surface (8)"
+    )
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("runs", nargs="+", help="gf-incline trajectories")
     args = ap.parse_args()

@@ -59,9 +59,11 @@ from granflow_py import outputs
 from granflow_py.hdf5 import sha256
 from granflow_py import statistics
 
-ERROR_METHOD = ("standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
-                "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
-                "blocking their linearisation")
+ERROR_METHOD = (
+    "standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "
+    "plateau found by Jonsson's test (99 %), at least 16 blocks; ratios and groups by "
+    "blocking their linearisation"
+)
 MIN_SAMPLES = 32  # steady rows a run must have
 TRANSIENT_BLOCKS = 100  # block means MSER looks at (fewer for shorter runs: a row each)
 STATIONARY_SIGMAS = 3  # largest difference between the halves' means, in combined errors
@@ -69,15 +71,36 @@ MIN_BLOCKS = 16  # fewest blocks an error is read from (its relative uncertainty
 STRESS = "mass/time^2 (2D stress, code units)"
 
 # Series read from /observables (scalar ones by name; tensors reduced to a pressure).
-SCALAR_OBSERVABLES = ("strain", "pressure", "shear_stress", "normal_stress_difference", "temperature",
-                      "solver_iterations", "solver_residual", "max_overlap")
-PRESSURE_PARTS = {"pressure_kinetic": "stress_kinetic", "pressure_static": "stress_static",
-                  "pressure_collisional": "stress_collisional"}
+SCALAR_OBSERVABLES = (
+    "strain",
+    "pressure",
+    "shear_stress",
+    "normal_stress_difference",
+    "temperature",
+    "solver_iterations",
+    "solver_residual",
+    "max_overlap",
+)
+PRESSURE_PARTS = {
+    "pressure_kinetic": "stress_kinetic",
+    "pressure_static": "stress_static",
+    "pressure_collisional": "stress_collisional",
+}
 # Run columns: table name -> /parameters attribute of gf-shear (contract: CLI names + derived).
-RUN_COLUMNS = {"packing_fraction": "packing_fraction", "restitution": "restitution",
-               "tangential_restitution": "tangential-restitution", "friction": "friction", "rate": "rate",
-               "strain_step": "strain-step", "strain": "strain", "dt": "dt", "grains": "grains",
-               "seed": "seed", "mean_radius": "mean_radius", "mean_mass": "mean_mass"}
+RUN_COLUMNS = {
+    "packing_fraction": "packing_fraction",
+    "restitution": "restitution",
+    "tangential_restitution": "tangential-restitution",
+    "friction": "friction",
+    "rate": "rate",
+    "strain_step": "strain-step",
+    "strain": "strain",
+    "dt": "dt",
+    "grains": "grains",
+    "seed": "seed",
+    "mean_radius": "mean_radius",
+    "mean_mass": "mean_mass",
+}
 
 
 def _rate2_mass(p):
@@ -89,31 +112,55 @@ QUANTITIES = {
     "pressure": ("p = (Σxx+Σyy)/2, total", STRESS, lambda p: 1.0, {"pressure": 1}),
     "shear_stress": ("s = -Σxy", STRESS, lambda p: 1.0, {"shear_stress": 1}),
     "temperature": ("T of eq. 4.5", "velocity^2", lambda p: 1.0, {"temperature": 1}),
-    "pressure_kinetic": ("p^k: half trace of the kinetic stress (first term of eq. 4.6)", STRESS,
-                         lambda p: 1.0, {"pressure_kinetic": 1}),
-    "pressure_static": ("p^s: half trace of the static (contact) stress (second term of eq. 4.6)", STRESS,
-                        lambda p: 1.0, {"pressure_static": 1}),
-    "pressure_collisional": ("half trace of the collisional stress", STRESS,
-                             lambda p: 1.0, {"pressure_collisional": 1}),
-    "normal_stress_difference": ("N1 = <(Σxx-Σyy)/2> / <p>", "1", lambda p: 1.0,
-                                 {"stress_half_difference": 1, "pressure": -1}),
+    "pressure_kinetic": (
+        "p^k: half trace of the kinetic stress (first term of eq. 4.6)",
+        STRESS,
+        lambda p: 1.0,
+        {"pressure_kinetic": 1},
+    ),
+    "pressure_static": (
+        "p^s: half trace of the static (contact) stress (second term of eq. 4.6)",
+        STRESS,
+        lambda p: 1.0,
+        {"pressure_static": 1},
+    ),
+    "pressure_collisional": (
+        "half trace of the collisional stress",
+        STRESS,
+        lambda p: 1.0,
+        {"pressure_collisional": 1},
+    ),
+    "normal_stress_difference": (
+        "N1 = <(Σxx-Σyy)/2> / <p>",
+        "1",
+        lambda p: 1.0,
+        {"stress_half_difference": 1, "pressure": -1},
+    ),
     "pressure_scaled": ("p/(γ̇² m), Fig 4.4 left", "1", _rate2_mass, {"pressure": 1}),
     "shear_stress_scaled": ("s/(γ̇² m), Fig 4.4 left", "1", _rate2_mass, {"shear_stress": 1}),
-    "temperature_scaled": ("T/(γ̇² <R>²), Fig 4.4 right", "1",
-                           lambda p: 1.0 / (p["rate"] * p["mean_radius"]) ** 2, {"temperature": 1}),
+    "temperature_scaled": (
+        "T/(γ̇² <R>²), Fig 4.4 right",
+        "1",
+        lambda p: 1.0 / (p["rate"] * p["mean_radius"]) ** 2,
+        {"temperature": 1},
+    ),
     "pressure_kinetic_scaled": ("p^k/(γ̇² m), Fig 4.5", "1", _rate2_mass, {"pressure_kinetic": 1}),
     "pressure_static_scaled": ("p^s/(γ̇² m), Figs 4.5, 4.6", "1", _rate2_mass, {"pressure_static": 1}),
-    "pressure_collisional_scaled": ("collisional pressure/(γ̇² m)", "1", _rate2_mass,
-                                    {"pressure_collisional": 1}),
+    "pressure_collisional_scaled": ("collisional pressure/(γ̇² m)", "1", _rate2_mass, {"pressure_collisional": 1}),
     "s_over_p": ("s/p, Figs 4.3, 4.4 right", "1", lambda p: 1.0, {"shear_stress": 1, "pressure": -1}),
-    "rate_R_over_sqrt_T": ("γ̇<R>/√T, Fig 4.3", "1", lambda p: p["rate"] * p["mean_radius"],
-                           {"temperature": -0.5}),
-    "mT_over_pR2": ("m T/(p <R>²), Fig 4.3", "1", lambda p: p["mean_mass"] / p["mean_radius"] ** 2,
-                    {"temperature": 1, "pressure": -1}),
+    "rate_R_over_sqrt_T": ("γ̇<R>/√T, Fig 4.3", "1", lambda p: p["rate"] * p["mean_radius"], {"temperature": -0.5}),
+    "mT_over_pR2": (
+        "m T/(p <R>²), Fig 4.3",
+        "1",
+        lambda p: p["mean_mass"] / p["mean_radius"] ** 2,
+        {"temperature": 1, "pressure": -1},
+    ),
 }
-DIAGNOSTICS = {"solver_iterations_mean": ("mean solver iterations per step", "1"),
-               "solver_residual_max": ("largest solver residual", "velocity (code units)"),
-               "max_overlap_max": ("largest overlap", "length (code units)")}
+DIAGNOSTICS = {
+    "solver_iterations_mean": ("mean solver iterations per step", "1"),
+    "solver_residual_max": ("largest solver residual", "velocity (code units)"),
+    "max_overlap_max": ("largest overlap", "length (code units)"),
+}
 
 
 def read_run(path):
@@ -142,9 +189,11 @@ def invariant_series(run):
     s, p, t = (run["series"][k] for k in ("shear_stress", "pressure", "temperature"))
     prm = run["parameters"]
     with np.errstate(divide="ignore", invalid="ignore"):
-        return {"s_over_p": np.where(p > 0, s / p, np.nan),
-                "rate_R_over_sqrt_T": np.where(t > 0, prm["rate"] * prm["mean_radius"] / np.sqrt(t), np.nan),
-                "mT_over_pR2": np.where(p > 0, prm["mean_mass"] * t / (p * prm["mean_radius"] ** 2), np.nan)}
+        return {
+            "s_over_p": np.where(p > 0, s / p, np.nan),
+            "rate_R_over_sqrt_T": np.where(t > 0, prm["rate"] * prm["mean_radius"] / np.sqrt(t), np.nan),
+            "mT_over_pR2": np.where(p > 0, prm["mean_mass"] * t / (p * prm["mean_radius"] ** 2), np.nan),
+        }
 
 
 def blocking_error(x):
@@ -160,8 +209,10 @@ def estimate(series, parameters, factor, powers):
     means = {k: float(np.mean(series[k])) for k in powers}
     q = c * math.prod(means[k] ** a for k, a in powers.items())
     # Linearisation: sum_k dQ/d<x_k> * x_k(t) (a constant shift leaves the error unchanged).
-    lin = sum(c * a * means[k] ** (a - 1) * math.prod(means[j] ** b for j, b in powers.items() if j != k)
-              * series[k] for k, a in powers.items())
+    lin = sum(
+        c * a * means[k] ** (a - 1) * math.prod(means[j] ** b for j, b in powers.items() if j != k) * series[k]
+        for k, a in powers.items()
+    )
     err, _, plateau = blocking_error(lin)
     return q, err, plateau
 
@@ -217,11 +268,12 @@ def steady_values(run, from_strain, to_strain=math.inf):
     bad = [k for k, v in steady.items() if not np.all(np.isfinite(v))]
     if bad:
         raise ValueError(f"non-finite values in the steady part of {', '.join(bad)}")
-    values = {name: estimate(steady, run["parameters"], c, powers)
-              for name, (_, _, c, powers) in QUANTITIES.items()}
-    diagnostics = {"solver_iterations_mean": float(np.mean(steady["solver_iterations"])),
-                   "solver_residual_max": float(np.max(steady["solver_residual"])),
-                   "max_overlap_max": float(np.max(steady["max_overlap"]))}
+    values = {name: estimate(steady, run["parameters"], c, powers) for name, (_, _, c, powers) in QUANTITIES.items()}
+    diagnostics = {
+        "solver_iterations_mean": float(np.mean(steady["solver_iterations"])),
+        "solver_residual_max": float(np.max(steady["solver_residual"])),
+        "max_overlap_max": float(np.max(steady["max_overlap"])),
+    }
     return values, diagnostics, n
 
 
@@ -245,8 +297,7 @@ def analyse(paths, from_strain, detect_transient=False):
 def write_table(output, rows, from_strain, command_line, detect_transient=False):
     """Write the rows of analyse() as the table, atomically."""
     parameters = {"from_strain": from_strain, "detect_transient": int(detect_transient), "error_method": ERROR_METHOD}
-    with outputs.table(output, os.path.abspath(__file__), command_line, parameters,
-                       [(r[0], r[1]) for r in rows]) as f:
+    with outputs.table(output, os.path.abspath(__file__), command_line, parameters, [(r[0], r[1]) for r in rows]) as f:
         runs = f["runs"]
         for col, attr in RUN_COLUMNS.items():
             ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
@@ -254,22 +305,34 @@ def write_table(output, rows, from_strain, command_line, detect_transient=False)
         runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
         runs["samples"].attrs["meaning"] = "observable rows averaged (strain >= steady_from)"
         for col, k, meaning in (
-                ("steady_from", 0, f"strain the steady part starts at (>= {from_strain}; "
-                                   + ("MSER on T and p" if detect_transient else "fixed") + ")"),
-                ("halves_z", 1, "larger |difference| of the means of T and of p between the steady "
-                                "part's halves, in combined blocking errors")):
+            (
+                "steady_from",
+                0,
+                f"strain the steady part starts at (>= {from_strain}; "
+                + ("MSER on T and p" if detect_transient else "fixed")
+                + ")",
+            ),
+            (
+                "halves_z",
+                1,
+                "larger |difference| of the means of T and of p between the steady "
+                "part's halves, in combined blocking errors",
+            ),
+        ):
             runs.create_dataset(col, data=np.array([r[6][k] for r in rows], dtype=float))
             runs[col].attrs["meaning"] = meaning
-        runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows],
-                                                        dtype=np.uint8))
+        runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows], dtype=np.uint8))
         runs["stationary"].attrs["meaning"] = f"1 if halves_z <= {STATIONARY_SIGMAS}"
         steady = f.create_group("steady")
         for name, (meaning, units, _, _) in QUANTITIES.items():
-            for suffix, col, what in (("", 0, "steady-state value"), ("_error", 1, ERROR_METHOD),
-                                      ("_plateau", 2, "1 if blocking reached a plateau, else the error "
-                                                      "is a lower bound")):
-                ds = steady.create_dataset(name + suffix, data=np.array([r[3][name][col] for r in rows],
-                                                                        dtype=np.uint8 if col == 2 else float))
+            for suffix, col, what in (
+                ("", 0, "steady-state value"),
+                ("_error", 1, ERROR_METHOD),
+                ("_plateau", 2, "1 if blocking reached a plateau, else the error " "is a lower bound"),
+            ):
+                ds = steady.create_dataset(
+                    name + suffix, data=np.array([r[3][name][col] for r in rows], dtype=np.uint8 if col == 2 else float)
+                )
                 ds.attrs.update({"meaning": f"{meaning}: {what}", "units": units if col < 2 else "1"})
         diag = f.create_group("diagnostics")
         for name, (meaning, units) in DIAGNOSTICS.items():
@@ -296,9 +359,12 @@ def add_start_options(ap):
     """--from-strain and --detect-transient, the options of steady_start(), for every script
     that averages a run's steady part."""
     ap.add_argument("--from-strain", type=float, default=0.5, help="skip the transient before this strain (0.5)")
-    ap.add_argument("--detect-transient", action="store_true",
-                    help="start a run's steady part later than --from-strain where its own transient ends "
-                         "(MSER on block means of T and p)")
+    ap.add_argument(
+        "--detect-transient",
+        action="store_true",
+        help="start a run's steady part later than --from-strain where its own transient ends "
+        "(MSER on block means of T and p)",
+    )
 
 
 def main():

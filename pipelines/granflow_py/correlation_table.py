@@ -99,7 +99,7 @@ def fit_anisotropy(theta, y, y_error, sector_width):
     theta0 = 0.5 * math.atan2(b, a)
     if a0 > 0:
         ja = np.array([a / a0, b / a0])
-        jt = np.array([-b, a]) / (2 * a0 ** 2)
+        jt = np.array([-b, a]) / (2 * a0**2)
         a0_err, t_err = math.sqrt(ja @ cov @ ja), math.sqrt(jt @ cov @ jt)
     else:
         a0_err, t_err = math.sqrt(cov[0, 0]), NAN
@@ -126,11 +126,14 @@ def analyse(table):
     runs); the settings (threshold, max_tail_share, k = abs_noise, factor = radial bins per
     coarse bin, bin_width = the coarse bin width)."""
     cor, runs = table["correlation"], table["runs"]
-    missing = [name for name in ("xi_abs", "xi_abs_error", "xi_abs_tail", "measurable", "xi_abs_ratio")
-               if name not in cor]
+    missing = [
+        name for name in ("xi_abs", "xi_abs_error", "xi_abs_tail", "measurable", "xi_abs_ratio") if name not in cor
+    ]
     if missing:
-        raise SystemExit(f"{table['path']}: no /correlation/{missing[0]}: made by a gf-correlate without xi_abs; "
-                         "re-run gf-correlate (make ch5-files)")
+        raise SystemExit(
+            f"{table['path']}: no /correlation/{missing[0]}: made by a gf-correlate without xi_abs; "
+            "re-run gf-correlate (make ch5-files)"
+        )
     attrs = cor["attrs"]
     n = len(runs["packing_fraction"])
     sweep = table.get("sweep", {})
@@ -138,23 +141,38 @@ def analyse(table):
     series = []
     if "status_abs" in sweep:
         for k in range(len(sweep["restitution"])):
-            series.append({"restitution": float(sweep["restitution"][k]), "friction": float(sweep["friction"][k]),
-                           "nu_bc": float(sweep["nu_bc_abs"][k]), "nu_bc_error": float(sweep["nu_bc_abs_error"][k]),
-                           "nu_below": float(sweep["nu_below_abs"][k]), "nu_above": float(sweep["nu_above_abs"][k]),
-                           "status": STATUS.get(int(sweep["status_abs"][k]), "?"),
-                           "runs": int(sweep["runs_abs"][k])})
+            series.append(
+                {
+                    "restitution": float(sweep["restitution"][k]),
+                    "friction": float(sweep["friction"][k]),
+                    "nu_bc": float(sweep["nu_bc_abs"][k]),
+                    "nu_bc_error": float(sweep["nu_bc_abs_error"][k]),
+                    "nu_below": float(sweep["nu_below_abs"][k]),
+                    "nu_above": float(sweep["nu_above_abs"][k]),
+                    "status": STATUS.get(int(sweep["status_abs"][k]), "?"),
+                    "runs": int(sweep["runs_abs"][k]),
+                }
+            )
     bin_width = float(attrs["bin_width"])
     coarse = float(attrs.get("abs_bin_width", bin_width))
-    return {"xi": np.asarray(cor["xi_abs"], dtype=float), "xi_error": np.asarray(cor["xi_abs_error"], dtype=float),
-            "tail_share": np.asarray(cor["xi_abs_tail"], dtype=float),
-            "measurable": np.asarray(cor["measurable"]).astype(bool).reshape(n),
-            "max_tail_share": float(attrs.get("abs_max_tail_share", 0.05)),
-            "xi_el": float(cor["xi_abs_el"]), "xi_el_error": float(cor["xi_abs_el_error"]),
-            "ratio": np.asarray(cor["xi_abs_ratio"], dtype=float),
-            "ratio_error": np.asarray(cor["xi_abs_ratio_error"], dtype=float),
-            "reference_rows": reference_rows(table), "series": series, "threshold": threshold,
-            "k": float(attrs.get("abs_noise", float("nan"))), "threshold_kind": str(attrs.get("abs_threshold", "soft")),
-            "factor": max(1, int(round(coarse / bin_width))), "bin_width": coarse}
+    return {
+        "xi": np.asarray(cor["xi_abs"], dtype=float),
+        "xi_error": np.asarray(cor["xi_abs_error"], dtype=float),
+        "tail_share": np.asarray(cor["xi_abs_tail"], dtype=float),
+        "measurable": np.asarray(cor["measurable"]).astype(bool).reshape(n),
+        "max_tail_share": float(attrs.get("abs_max_tail_share", 0.05)),
+        "xi_el": float(cor["xi_abs_el"]),
+        "xi_el_error": float(cor["xi_abs_el_error"]),
+        "ratio": np.asarray(cor["xi_abs_ratio"], dtype=float),
+        "ratio_error": np.asarray(cor["xi_abs_ratio_error"], dtype=float),
+        "reference_rows": reference_rows(table),
+        "series": series,
+        "threshold": threshold,
+        "k": float(attrs.get("abs_noise", float("nan"))),
+        "threshold_kind": str(attrs.get("abs_threshold", "soft")),
+        "factor": max(1, int(round(coarse / bin_width))),
+        "bin_width": coarse,
+    }
 
 
 def fmt_pm(value, error):

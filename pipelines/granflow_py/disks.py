@@ -15,7 +15,7 @@ def periodic_images(position, radius, lx, ly=None, offset=0.0):
     None). Ordered by image (ky, then kx), then by grain, so the drawing order is fixed."""
     position, radius = np.asarray(position), np.asarray(radius)
     index, xs, ys, kys = [], [], [], []
-    for ky in ((-1, 0, 1) if ly is not None else (0,)):
+    for ky in (-1, 0, 1) if ly is not None else (0,):
         for kx in (-2, -1, 0, 1, 2):
             x = position[:, 0] + kx * lx + ky * offset
             y = position[:, 1] + ky * ly if ly is not None else position[:, 1]

@@ -45,8 +45,15 @@ def read_frame(path, frame=-1):
         fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
         edges = g["box/edges/value"][frame]
         params = read_attrs(f["/parameters"])
-    return {"position": pos, "velocity": vel, "time": time, "radius": radius, "fixed": fixed, "edges": edges,
-            "parameters": params}
+    return {
+        "position": pos,
+        "velocity": vel,
+        "time": time,
+        "radius": radius,
+        "fixed": fixed,
+        "edges": edges,
+        "parameters": params,
+    }
 
 
 def sha256(path):

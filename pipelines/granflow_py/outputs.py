@@ -15,8 +15,9 @@ def atomic_output(path):
     """A temporary path beside `path` (.name); commit() renames it into place, abandon() removes
     it if it is still there."""
     directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix="." + os.path.basename(path) + ".part-",
-                               suffix=os.path.splitext(path)[1])
+    fd, tmp = tempfile.mkstemp(
+        dir=directory, prefix="." + os.path.basename(path) + ".part-", suffix=os.path.splitext(path)[1]
+    )
     os.close(fd)
 
     class _Out:
@@ -53,9 +54,14 @@ def table(output, script, command_line, parameters, inputs):
     out = atomic_output(output)
     try:
         with h5py.File(out.name, "w") as f:
-            f.create_group("parameters").attrs.update({
-                "program": os.path.basename(script), "script_sha256": sha256(script), "command_line": command_line,
-                **parameters})
+            f.create_group("parameters").attrs.update(
+                {
+                    "program": os.path.basename(script),
+                    "script_sha256": sha256(script),
+                    "command_line": command_line,
+                    **parameters,
+                }
+            )
             runs = f.create_group("runs")
             text_dataset(runs, "input", [path for path, _ in inputs])
             text_dataset(runs, "input_sha256", [digest for _, digest in inputs])

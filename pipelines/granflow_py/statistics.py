@@ -49,9 +49,11 @@ def _load():
     try:
         lib = ctypes.CDLL(path)
     except OSError as exc:
-        raise LibraryMissing(f"granflow statistics library not found at {path} ({exc}); build it with "
-                             f"`make -f Makefile.sweeps build` (or set GRANFLOW_BUILD to the CMake build "
-                             f"directory that has lib/{LIBRARY_NAME})") from None
+        raise LibraryMissing(
+            f"granflow statistics library not found at {path} ({exc}); build it with "
+            f"`make -f Makefile.sweeps build` (or set GRANFLOW_BUILD to the CMake build "
+            f"directory that has lib/{LIBRARY_NAME})"
+        ) from None
     size_p, double_p = ctypes.POINTER(ctypes.c_size_t), ctypes.POINTER(ctypes.c_double)
     array = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
     lib.gf_stat_abi_version.restype = ctypes.c_int
@@ -66,8 +68,10 @@ def _load():
     for name in ("mser_truncation", "mser_first_row", "blocking_error", "halves_change", "numpy_sum"):
         getattr(lib, "gf_stat_" + name).restype = ctypes.c_int
     if lib.gf_stat_abi_version() != ABI_VERSION or lib.gf_stat_blocking_min_samples() != MIN_SAMPLES:
-        raise LibraryMissing(f"{path} is from another version of granflow (ABI {lib.gf_stat_abi_version()}, "
-                             f"expected {ABI_VERSION}); rebuild it with `make -f Makefile.sweeps build`")
+        raise LibraryMissing(
+            f"{path} is from another version of granflow (ABI {lib.gf_stat_abi_version()}, "
+            f"expected {ABI_VERSION}); rebuild it with `make -f Makefile.sweeps build`"
+        )
     _library = lib
     return lib
 
@@ -114,8 +118,9 @@ def mser_first_row(series, blocks=100):
         raise ValueError(f"expected equal-length series (2-D), got shape {data.shape}")
     count, length = data.shape
     out = ctypes.c_size_t()
-    code = lib.gf_stat_mser_first_row(data.reshape(-1) if data.size else np.zeros(1), count, length, int(blocks),
-                                      ctypes.byref(out))
+    code = lib.gf_stat_mser_first_row(
+        data.reshape(-1) if data.size else np.zeros(1), count, length, int(blocks), ctypes.byref(out)
+    )
     _check(code, "mser_first_row")
     return int(out.value)
 

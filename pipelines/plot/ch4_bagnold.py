@@ -16,8 +16,7 @@ def main():
     ss.add_start_options(ap)
     args = ap.parse_args()
     runs = sorted((ss.read_run(p) for p in args.runs), key=lambda r: r["parameters"]["rate"])
-    fig, axes = plt.subplots(len(runs), 1, figsize=(7, 2.4 * len(runs)), sharex=True, sharey=True,
-                             squeeze=False)
+    fig, axes = plt.subplots(len(runs), 1, figsize=(7, 2.4 * len(runs)), sharex=True, sharey=True, squeeze=False)
     for ax, run in zip(axes[:, 0], runs):
         prm, ser = run["parameters"], run["series"]
         scale = 1 / (prm["rate"] ** 2 * prm["mean_mass"])
@@ -29,12 +28,14 @@ def main():
         ax.axvline(start, color="0.5", ls="--", lw=0.8)
         ax.set_yscale("log")
         ax.set_ylabel(r"$p\,\dot\gamma^{-2}/m$")
-        ax.legend(loc="upper right", fontsize=8, title=f"γ̇ = {prm['rate']:g}, dt = {prm['dt']:.3g}",
-                  title_fontsize=8)
+        ax.legend(loc="upper right", fontsize=8, title=f"γ̇ = {prm['rate']:g}, dt = {prm['dt']:.3g}", title_fontsize=8)
     axes[-1, 0].set_xlabel(r"shear strain $\dot\gamma t$")
     prm = runs[0]["parameters"]
-    fig.suptitle(f"Thesis Fig. 4.2: Bagnold scaling, ν={prm['packing_fraction']:.3f}, e={prm['restitution']:g}, "
-                 f"μ={prm['friction']:g}, N={prm['grains']}", fontsize=10)
+    fig.suptitle(
+        f"Thesis Fig. 4.2: Bagnold scaling, ν={prm['packing_fraction']:.3f}, e={prm['restitution']:g}, "
+        f"μ={prm['friction']:g}, N={prm['grains']}",
+        fontsize=10,
+    )
     save_figure(fig, args.output)
 
 

@@ -15,9 +15,11 @@ from analysis import steady_state as ss
 from granflow_py.plotting import plt, save_figure
 
 
-INVARIANTS = (("s_over_p", "s_over_p", "$s/p$"),
-              ("inertial", "rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),
-              ("mT_over_pR2", "mT_over_pR2", r"$mT/p\langle R\rangle^2$"))
+INVARIANTS = (
+    ("s_over_p", "s_over_p", "$s/p$"),
+    ("inertial", "rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),
+    ("mT_over_pR2", "mT_over_pR2", r"$mT/p\langle R\rangle^2$"),
+)
 FRICTIONS = (0.0, 0.4)
 
 
@@ -38,23 +40,47 @@ def main():
         for row, (name, shear_name, label) in enumerate(INVARIANTS):
             ax = axes[row, col]
             if len(rows):
-                ax.errorbar(shear["runs"]["packing_fraction"][rows], shear["steady"][shear_name][rows],
-                            yerr=shear["steady"][shear_name + "_error"][rows], fmt="o", mfc="none", capsize=2,
-                            label="simple shear")
+                ax.errorbar(
+                    shear["runs"]["packing_fraction"][rows],
+                    shear["steady"][shear_name][rows],
+                    yerr=shear["steady"][shear_name + "_error"][rows],
+                    fmt="o",
+                    mfc="none",
+                    capsize=2,
+                    label="simple shear",
+                )
             if len(inc):
-                ax.errorbar(incline["bulk"]["packing_fraction"][inc], incline["bulk"][name][inc],
-                            xerr=incline["bulk"]["packing_fraction_error"][inc],
-                            yerr=incline["bulk"][name + "_error"][inc], fmt="s", capsize=2, color="tab:red",
-                            label="incline bulk")
+                ax.errorbar(
+                    incline["bulk"]["packing_fraction"][inc],
+                    incline["bulk"][name][inc],
+                    xerr=incline["bulk"]["packing_fraction_error"][inc],
+                    yerr=incline["bulk"][name + "_error"][inc],
+                    fmt="s",
+                    capsize=2,
+                    color="tab:red",
+                    label="incline bulk",
+                )
                 for i in inc:
-                    ax.annotate(f"{incline['runs']['angle'][i]:g}°",
-                                (incline["bulk"]["packing_fraction"][i], incline["bulk"][name][i]),
-                                textcoords="offset points", xytext=(4, 4), fontsize=7, color="tab:red")
+                    ax.annotate(
+                        f"{incline['runs']['angle'][i]:g}°",
+                        (incline["bulk"]["packing_fraction"][i], incline["bulk"][name][i]),
+                        textcoords="offset points",
+                        xytext=(4, 4),
+                        fontsize=7,
+                        color="tab:red",
+                    )
             if not len(rows) and not len(inc):
                 ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
             elif not len(inc) and row == 0:
-                ax.text(0.3, 0.1, "no flowing incline run at this μ", transform=ax.transAxes, ha="center",
-                        fontsize=8, color="tab:red")
+                ax.text(
+                    0.3,
+                    0.1,
+                    "no flowing incline run at this μ",
+                    transform=ax.transAxes,
+                    ha="center",
+                    fontsize=8,
+                    color="tab:red",
+                )
             ax.set_ylabel(label)
             if name == "mT_over_pR2":
                 ax.set_yscale("log")  # spans decades as ν → ν_max
@@ -62,8 +88,11 @@ def main():
                 ax.set_title(f"μ = {mu:g}")
                 ax.legend(fontsize=8)
         axes[-1, col].set_xlabel("packing fraction ν")
-    fig.suptitle(f"Thesis Fig. 4.10: bulk rheology of simple shear (circles, ν ≥ {args.min_nu:g}) and incline "
-                 f"flow (squares, angle beside each), e = {args.restitution:g}", fontsize=10)
+    fig.suptitle(
+        f"Thesis Fig. 4.10: bulk rheology of simple shear (circles, ν ≥ {args.min_nu:g}) and incline "
+        f"flow (squares, angle beside each), e = {args.restitution:g}",
+        fontsize=10,
+    )
     fig.tight_layout()
     save_figure(fig, args.output)
 

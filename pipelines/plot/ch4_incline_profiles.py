@@ -25,17 +25,23 @@ def main():
     y = prof["y"] / d
     height = row["surface_height"] / d
     stress = r / (m * g)
-    panels = [("packing fraction ν", prof["packing_fraction"]),
-              (r"$V_x/\sqrt{g\langle R\rangle}$", prof["velocity_x"] / math.sqrt(g * r)),
-              (r"$T/g\langle R\rangle$", prof["temperature"] / (g * r)),
-              (r"$p\langle R\rangle/mg$", prof["pressure"] * stress),
-              (r"$s\langle R\rangle/mg$", prof["shear_stress"] * stress)]
+    panels = [
+        ("packing fraction ν", prof["packing_fraction"]),
+        (r"$V_x/\sqrt{g\langle R\rangle}$", prof["velocity_x"] / math.sqrt(g * r)),
+        (r"$T/g\langle R\rangle$", prof["temperature"] / (g * r)),
+        (r"$p\langle R\rangle/mg$", prof["pressure"] * stress),
+        (r"$s\langle R\rangle/mg$", prof["shear_stress"] * stress),
+    ]
     fig, axes = plt.subplots(1, 5, figsize=(14, 4.2), sharey=True)
     for ax, (label, value) in zip(axes, panels):
         ax.plot(value, y, "o-", ms=4)
         ax.set_xlabel(label)
-        ax.axhspan(row["bulk_from"] / d - 0.5 * run["bin"] / d, row["bulk_to"] / d + 0.5 * run["bin"] / d,
-                   color="0.9", zorder=0)
+        ax.axhspan(
+            row["bulk_from"] / d - 0.5 * run["bin"] / d,
+            row["bulk_to"] / d + 0.5 * run["bin"] / d,
+            color="0.9",
+            zorder=0,
+        )
         ax.axhline(height, color="0.5", ls=":", lw=0.8)
     if row["flowing"]:
         yy = np.linspace(args.base_skip, height, 100)
@@ -43,8 +49,13 @@ def main():
         fit = np.flatnonzero(np.isfinite(prof["velocity_x"]) & (y >= args.base_skip) & (y < height))
         vfit = prof["velocity_x"][fit] / math.sqrt(g * r)
         c = np.linalg.lstsq((height * d - prof["y"][fit])[:, None] ** a, vs - vfit, rcond=None)[0][0]
-        axes[1].plot(vs - c * ((height - yy) * d) ** a, yy, "k--", lw=0.8,
-                     label=f"$V_s - c(H-y)^{{{a:.2f}}}$\n(bulk only: a = {row['velocity_exponent']:.2f})")
+        axes[1].plot(
+            vs - c * ((height - yy) * d) ** a,
+            yy,
+            "k--",
+            lw=0.8,
+            label=f"$V_s - c(H-y)^{{{a:.2f}}}$\n(bulk only: a = {row['velocity_exponent']:.2f})",
+        )
         axes[1].legend(fontsize=7, loc="upper left")
     w = prof["weight_above"] * stress
     axes[3].plot(math.cos(theta) * w, y, "k--", lw=0.8, label=r"$\Sigma_{yy}$ balance $g\cos\theta\,W$")
@@ -52,10 +63,12 @@ def main():
     axes[3].legend(fontsize=7)
     axes[4].legend(fontsize=7)
     axes[0].set_ylabel("height y above the base (mean diameters)")
-    fig.suptitle(f"Thesis Fig. 4.8: steady profiles, θ = {prm['angle']:g}°, μ = {prm['friction']:g}, "
-                 f"e = {prm['restitution']:g}, {prm['grains']} grains, averaged from "
-                 f"{prm['steady_from_tau']:.0f} τ to {prm['time']:.0f} τ (shaded: bulk; dotted: surface H)",
-                 fontsize=10)
+    fig.suptitle(
+        f"Thesis Fig. 4.8: steady profiles, θ = {prm['angle']:g}°, μ = {prm['friction']:g}, "
+        f"e = {prm['restitution']:g}, {prm['grains']} grains, averaged from "
+        f"{prm['steady_from_tau']:.0f} τ to {prm['time']:.0f} τ (shaded: bulk; dotted: surface H)",
+        fontsize=10,
+    )
     fig.tight_layout()
     save_figure(fig, args.output)
 

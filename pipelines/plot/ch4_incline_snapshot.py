@@ -27,8 +27,9 @@ def main():
     pos, vel, time, radius = d["position"], d["velocity"], d["time"], d["radius"]
     fixed = d["fixed"].astype(bool)
     lx = float(d["edges"][0][0])
-    theta, mu, e, tau, gravity, mean_r = (float(d["parameters"][k]) for k in ("angle", "friction", "restitution",
-                                                                             "tau", "gravity", "mean_radius"))
+    theta, mu, e, tau, gravity, mean_r = (
+        float(d["parameters"][k]) for k in ("angle", "friction", "restitution", "tau", "gravity", "mean_radius")
+    )
     t = math.radians(theta)
     rot = np.array([[math.cos(t), math.sin(t)], [-math.sin(t), math.cos(t)]])  # R(−θ)
     speed = vel[:, 0] / math.sqrt(gravity * mean_r)
@@ -48,15 +49,19 @@ def main():
     ax.set_xlim(corners[0].min() - 2, corners[0].max() + 2)
     ax.set_ylim(corners[1].min() - 2, corners[1].max() + 4)
     ax.set_aspect("equal")
-    ax.annotate("", xy=(0.05, 0.05), xytext=(0.05, 0.25), xycoords="axes fraction",
-                arrowprops={"arrowstyle": "->", "lw": 1.5})
+    ax.annotate(
+        "", xy=(0.05, 0.05), xytext=(0.05, 0.25), xycoords="axes fraction", arrowprops={"arrowstyle": "->", "lw": 1.5}
+    )
     ax.text(0.07, 0.15, "g", transform=ax.transAxes, ha="left")
     ax.set_xticks([])
     ax.set_yticks([])
     fig.colorbar(cells, ax=ax, shrink=0.7, label=r"$v_x/\sqrt{g\langle R\rangle}$ (down the slope)")
-    ax.set_title(f"Thesis Fig. 4.7: incline flow, θ = {theta:g}°, μ = {mu:g}, e = {e:g}, "
-                 f"{int((~fixed).sum())} grains on {int(fixed.sum())} fixed (black),\n"
-                 f"t = {time / tau:.0f} τ ({os.path.basename(args.input)})", fontsize=9)
+    ax.set_title(
+        f"Thesis Fig. 4.7: incline flow, θ = {theta:g}°, μ = {mu:g}, e = {e:g}, "
+        f"{int((~fixed).sum())} grains on {int(fixed.sum())} fixed (black),\n"
+        f"t = {time / tau:.0f} τ ({os.path.basename(args.input)})",
+        fontsize=9,
+    )
     save_figure(fig, args.output)
 
 

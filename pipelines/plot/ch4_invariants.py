@@ -8,8 +8,11 @@ from analysis import steady_state as ss
 from granflow_py.plotting import plt, save_figure
 
 
-PANELS = (("s_over_p", r"$s/p$"), ("rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),
-          ("mT_over_pR2", r"$mT/p\langle R\rangle^2$"))
+PANELS = (
+    ("s_over_p", r"$s/p$"),
+    ("rate_R_over_sqrt_T", r"$\dot\gamma\langle R\rangle/\sqrt{T}$"),
+    ("mT_over_pR2", r"$mT/p\langle R\rangle^2$"),
+)
 
 
 def main():
@@ -33,8 +36,11 @@ def main():
         ax.legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel(r"shear strain $\dot\gamma t$")
     prm = run["parameters"]
-    fig.suptitle(f"Thesis Fig. 4.3: invariants, ν={prm['packing_fraction']:.3f}, e={prm['restitution']:g}, "
-                 f"μ={prm['friction']:g}, γ̇={prm['rate']:g}, N={prm['grains']}", fontsize=10)
+    fig.suptitle(
+        f"Thesis Fig. 4.3: invariants, ν={prm['packing_fraction']:.3f}, e={prm['restitution']:g}, "
+        f"μ={prm['friction']:g}, γ̇={prm['rate']:g}, N={prm['grains']}",
+        fontsize=10,
+    )
     save_figure(fig, args.output)
 
 

@@ -21,16 +21,19 @@ def main():
         sys.exit(f"ch4_pressure_parts.py: {args.table} has no run with e = 0 and μ = 0")
     nu, st = table["runs"]["packing_fraction"][rows], table["steady"]
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    for name, fmt, label in (("pressure_static_scaled", "o-", r"static $p^s$"),
-                             ("pressure_kinetic_scaled", "d-", r"kinetic $p^k$")):
-        ax.errorbar(nu, st[name][rows], yerr=st[name + "_error"][rows], fmt=fmt, capsize=2, mfc="none",
-                    label=label)
+    for name, fmt, label in (
+        ("pressure_static_scaled", "o-", r"static $p^s$"),
+        ("pressure_kinetic_scaled", "d-", r"kinetic $p^k$"),
+    ):
+        ax.errorbar(nu, st[name][rows], yerr=st[name + "_error"][rows], fmt=fmt, capsize=2, mfc="none", label=label)
     ax.set_yscale("log")
     ax.set_xlabel("packing fraction ν")
     ax.set_ylabel(r"pressure $/\,\dot\gamma^2 m$")
     ax.legend()
-    ax.set_title(f"Thesis Fig. 4.5: static and kinetic pressure, e = 0, μ = 0 "
-                 f"(N={table['runs']['grains'][rows[0]]})", fontsize=10)
+    ax.set_title(
+        f"Thesis Fig. 4.5: static and kinetic pressure, e = 0, μ = 0 " f"(N={table['runs']['grains'][rows[0]]})",
+        fontsize=10,
+    )
     save_figure(fig, args.output)
 
 

@@ -40,10 +40,16 @@ def main():
     runs = table["runs"]
     prm = table["parameters"]
     # With --detect-transient each run is averaged from its own steady start, at least from_strain.
-    averaged = (f"each run from its steady start >= {prm['from_strain']:g}" if prm.get("detect_transient")
-                else f"strain >= {prm['from_strain']:g} averaged")
-    fig.suptitle(f"Thesis Fig. 4.4: steady state, e = 0, μ = 0 (N={runs['grains'][rows[0]]}, "
-                 f"γ̇={runs['rate'][rows[0]]:g}, {averaged})", fontsize=10)
+    averaged = (
+        f"each run from its steady start >= {prm['from_strain']:g}"
+        if prm.get("detect_transient")
+        else f"strain >= {prm['from_strain']:g} averaged"
+    )
+    fig.suptitle(
+        f"Thesis Fig. 4.4: steady state, e = 0, μ = 0 (N={runs['grains'][rows[0]]}, "
+        f"γ̇={runs['rate'][rows[0]]:g}, {averaged})",
+        fontsize=10,
+    )
     fig.tight_layout()
     save_figure(fig, args.output)
 

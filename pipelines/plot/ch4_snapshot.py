@@ -41,8 +41,11 @@ def main():
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     fig.colorbar(cells, ax=ax, label=r"$v_x / (\dot\gamma L_y/2)$")
-    ax.set_title(f"Thesis Fig. 4.1: simple shear, N={len(radius)}, ν={nu:.3f}, e={e:g}, μ={mu:g},\n"
-                 f"γ̇={rate:g}, strain {rate * time:.2f} ({os.path.basename(args.input)})", fontsize=9)
+    ax.set_title(
+        f"Thesis Fig. 4.1: simple shear, N={len(radius)}, ν={nu:.3f}, e={e:g}, μ={mu:g},\n"
+        f"γ̇={rate:g}, strain {rate * time:.2f} ({os.path.basename(args.input)})",
+        fontsize=9,
+    )
     save_figure(fig, args.output)
 
 

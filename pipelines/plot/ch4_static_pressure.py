@@ -24,14 +24,23 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for e in np.unique(table["runs"]["restitution"][frictionless]):
         rows = ss.select(table, friction=0.0, restitution=e)
-        ax.errorbar(table["runs"]["packing_fraction"][rows], st["pressure_static_scaled"][rows],
-                    yerr=st["pressure_static_scaled_error"][rows], fmt="o-", ms=4, capsize=2, label=f"e = {e:g}")
+        ax.errorbar(
+            table["runs"]["packing_fraction"][rows],
+            st["pressure_static_scaled"][rows],
+            yerr=st["pressure_static_scaled_error"][rows],
+            fmt="o-",
+            ms=4,
+            capsize=2,
+            label=f"e = {e:g}",
+        )
     ax.set_yscale("log")
     ax.set_xlabel("packing fraction ν")
     ax.set_ylabel(r"static pressure $p^s/\,\dot\gamma^2 m$")
     ax.legend()
-    ax.set_title(f"Thesis Fig. 4.6: static pressure for several e, μ = 0 "
-                 f"(N={table['runs']['grains'][frictionless[0]]})", fontsize=10)
+    ax.set_title(
+        f"Thesis Fig. 4.6: static pressure for several e, μ = 0 " f"(N={table['runs']['grains'][frictionless[0]]})",
+        fontsize=10,
+    )
     save_figure(fig, args.output)
 
 

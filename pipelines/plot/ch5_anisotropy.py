@@ -45,17 +45,30 @@ def main():
     fig, ax = plt.subplots(figsize=(6.8, 4.8))
     runs_note = ""
     if args.figure == "5.5":
-        rows = well_defined(table, ct.select(table, restitution=args.restitution, friction=0.0),
-                            args.max_relative_error)[-3:]
+        rows = well_defined(
+            table, ct.select(table, restitution=args.restitution, friction=0.0), args.max_relative_error
+        )[-3:]
         for k, row in enumerate(rows):
             xi = cor["xi"][row]
-            ax.errorbar(theta, cor["xi_theta"][row] / sigma, yerr=cor["xi_theta_error"][row] / sigma, fmt="o",
-                        ms=3, capsize=2, color=f"C{k}",
-                        label=f"ν = {runs['packing_fraction'][row]:.3f}: a0 = {cor['a0'][row]:.2f} ± "
-                              f"{cor['a0_error'][row]:.2f}, θ0 = {cor['theta0'][row]:.2f} ± "
-                              f"{cor['theta0_error'][row]:.2f}")
-            ax.plot(grid, xi / (2 * np.pi) * ct.eq53(grid, cor["a0"][row], cor["theta0"][row]) / sigma, "-",
-                    color=f"C{k}", lw=1)
+            ax.errorbar(
+                theta,
+                cor["xi_theta"][row] / sigma,
+                yerr=cor["xi_theta_error"][row] / sigma,
+                fmt="o",
+                ms=3,
+                capsize=2,
+                color=f"C{k}",
+                label=f"ν = {runs['packing_fraction'][row]:.3f}: a0 = {cor['a0'][row]:.2f} ± "
+                f"{cor['a0_error'][row]:.2f}, θ0 = {cor['theta0'][row]:.2f} ± "
+                f"{cor['theta0_error'][row]:.2f}",
+            )
+            ax.plot(
+                grid,
+                xi / (2 * np.pi) * ct.eq53(grid, cor["a0"][row], cor["theta0"][row]) / sigma,
+                "-",
+                color=f"C{k}",
+                lw=1,
+            )
         ax.set_ylabel(r"$\xi(\theta)/\sigma$")
         title = f"Thesis Fig. 5.5: ξ(θ), e = {args.restitution:g}, μ = 0, with the fits of eq. 5.3"
     else:
@@ -74,11 +87,21 @@ def main():
             ax.plot([], [], "o", color=plt.get_cmap("viridis")(k / max(len(es) - 1, 1)), label=f"e = {e:g}")
         if rows.size:
             fit = ct.fit_anisotropy(np.concatenate(thetas), np.concatenate(ys), np.concatenate(errs), width)
-            ax.plot(grid, ct.eq53(grid, fit["a0"], fit["theta0"]), "k-", lw=1.5,
-                    label=f"fit: a0 = {fit['a0']:.3f} ± {fit['a0_error']:.3f}, θ0 = {fit['theta0']:.3f} ± "
-                          f"{fit['theta0_error']:.3f}")
-        ax.plot(grid, ct.eq53(grid, THESIS_A0, THESIS_THETA0), "k--", lw=1,
-                label=f"thesis: a0 = {THESIS_A0}, θ0 = {THESIS_THETA0}")
+            ax.plot(
+                grid,
+                ct.eq53(grid, fit["a0"], fit["theta0"]),
+                "k-",
+                lw=1.5,
+                label=f"fit: a0 = {fit['a0']:.3f} ± {fit['a0_error']:.3f}, θ0 = {fit['theta0']:.3f} ± "
+                f"{fit['theta0_error']:.3f}",
+            )
+        ax.plot(
+            grid,
+            ct.eq53(grid, THESIS_A0, THESIS_THETA0),
+            "k--",
+            lw=1,
+            label=f"thesis: a0 = {THESIS_A0}, θ0 = {THESIS_THETA0}",
+        )
         ax.set_ylabel(r"$2\pi\,\xi(\theta)/\xi$")
         title = "Thesis Fig. 5.6: normalised ξ(θ), μ = 0, all runs with a well-defined ξ"
         runs_note = f", {len(rows)} runs"
@@ -91,8 +114,11 @@ def main():
         ax.legend(fontsize=7)
     else:
         ax.text(0.5, 0.5, "no run with a well-defined ξ", transform=ax.transAxes, ha="center")
-    ax.set_title(f"{title}\n(gf-correlate's eq.-5.2 ξ(θ); N = {int(runs['grains'][0])}{runs_note}; "
-                 f"runs with δξ/ξ < {args.max_relative_error:g})", fontsize=9)
+    ax.set_title(
+        f"{title}\n(gf-correlate's eq.-5.2 ξ(θ); N = {int(runs['grains'][0])}{runs_note}; "
+        f"runs with δξ/ξ < {args.max_relative_error:g})",
+        fontsize=9,
+    )
     save_figure(fig, args.output)
 
 

@@ -59,12 +59,18 @@ def main():
         draw(ax, position, radius, cluster_colours(labels), lx, ly, offset)
         sizes = np.bincount(labels)[1:]
         steps = int(cl["last_step"][i] - cl["first_step"][i]) + 1
-        ax.set_title(f"ν = {runs['packing_fraction'][i]:.3f}, e = {runs['restitution'][i]:g}, "
-                     f"μ = {runs['friction'][i]:g}\n{int(cl['count'][i])} clusters over {steps} steps, "
-                     f"largest {sizes.max() if len(sizes) else 0} grains, "
-                     f"{int((labels > 0).sum())}/{len(labels)} grains in contact", fontsize=9)
-    fig.suptitle(f"Thesis Fig. 5.1: grains in contact during a short window, coloured by cluster "
-                 f"(N = {int(runs['grains'][0])})", fontsize=10)
+        ax.set_title(
+            f"ν = {runs['packing_fraction'][i]:.3f}, e = {runs['restitution'][i]:g}, "
+            f"μ = {runs['friction'][i]:g}\n{int(cl['count'][i])} clusters over {steps} steps, "
+            f"largest {sizes.max() if len(sizes) else 0} grains, "
+            f"{int((labels > 0).sum())}/{len(labels)} grains in contact",
+            fontsize=9,
+        )
+    fig.suptitle(
+        f"Thesis Fig. 5.1: grains in contact during a short window, coloured by cluster "
+        f"(N = {int(runs['grains'][0])})",
+        fontsize=10,
+    )
     fig.tight_layout(rect=(0, 0, 1, 0.95))
     save_figure(fig, args.output)
 

@@ -49,10 +49,12 @@ def main():
     left.set_xlim(0, r[-1])
     left.set_xlabel(r"$\ell/\sigma$")
     left.set_ylabel(r"$\bar C(\ell)$ (per unit area)")
-    left.set_title(f"ν = {runs['packing_fraction'][main_row]:.3f}, e = {restitution:g}, "
-                   f"ξ_|C|/ξ_el = {res['ratio'][main_row]:.2f}"
-                   + ("" if res["measurable"][main_row] else " (correlations reach the box: not measurable)"),
-                   fontsize=9)
+    left.set_title(
+        f"ν = {runs['packing_fraction'][main_row]:.3f}, e = {restitution:g}, "
+        f"ξ_|C|/ξ_el = {res['ratio'][main_row]:.2f}"
+        + ("" if res["measurable"][main_row] else " (correlations reach the box: not measurable)"),
+        fontsize=9,
+    )
     rows = []
     for nu in args.nus:
         row = ct.nearest(table, nu, **crit)
@@ -64,8 +66,9 @@ def main():
         signal = np.abs(cb) > 2 * eb
         pos, neg = signal & (cb > 0), signal & (cb < 0)
         xi = res["xi"][row]
-        label = (f"ν = {runs['packing_fraction'][row]:.3f}, ξ_|C| = {xi / sigma:.2f}σ"
-                 + ("" if res["measurable"][row] else " (reaches the box)"))
+        label = f"ν = {runs['packing_fraction'][row]:.3f}, ξ_|C| = {xi / sigma:.2f}σ" + (
+            "" if res["measurable"][row] else " (reaches the box)"
+        )
         right.plot(rb[pos] / sigma, np.abs(cb[pos]), "o", color=colour, ms=4, label=label)
         right.plot(rb[neg] / sigma, np.abs(cb[neg]), "o", mfc="none", color=colour, ms=4)
         right.plot(rb[~signal] / sigma, np.abs(cb[~signal]), ".", color=colour, ms=2, alpha=0.4)
@@ -77,9 +80,12 @@ def main():
     right.set_xlabel(r"$\ell/\sigma$")
     right.set_ylabel(r"$|\bar C(\ell)|$")
     right.legend(fontsize=8, title="filled: C̄ > 0, hollow: C̄ < 0, dots: < 2 s.e.", title_fontsize=7)
-    fig.suptitle(f"Thesis Fig. 5.2: force correlation, e = {restitution:g}, μ = {args.friction:g} "
-                 f"(N = {int(runs['grains'][main_row])}, {int(runs['frames'][main_row])} frames; "
-                 f"lines A·exp(−ℓ/ξ_|C|))", fontsize=10)
+    fig.suptitle(
+        f"Thesis Fig. 5.2: force correlation, e = {restitution:g}, μ = {args.friction:g} "
+        f"(N = {int(runs['grains'][main_row])}, {int(runs['frames'][main_row])} frames; "
+        f"lines A·exp(−ℓ/ξ_|C|))",
+        fontsize=10,
+    )
     fig.tight_layout()
     save_figure(fig, args.output)
 

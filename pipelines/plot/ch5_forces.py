@@ -53,22 +53,41 @@ def main():
         chosen = spread(rows, 6)
         fig, axes = plt.subplots(2, 3, figsize=(12, 6.6), squeeze=False)
         for ax, row in zip(axes.ravel(), chosen):
-            ax.errorbar(f[shown], fo["P"][row][shown], yerr=fo["P_error"][row][shown], fmt="o", ms=2.5,
-                        capsize=1.5, label="P(f), contact forces")
-            ax.plot(f_bc[shown], fo["P_bc"][row][shown], "-", color="tab:red", lw=1.2,
-                    label=r"P($f_{bc}$), binary collisions (5.4)")
-            ax.set_title(f"ν = {runs['packing_fraction'][row]:.3f}: ξ_|C|/ξ_el = {res['ratio'][row]:.2f} ± "
-                         f"{res['ratio_error'][row]:.2f}\n{decision(table, row)}", fontsize=8)
+            ax.errorbar(
+                f[shown],
+                fo["P"][row][shown],
+                yerr=fo["P_error"][row][shown],
+                fmt="o",
+                ms=2.5,
+                capsize=1.5,
+                label="P(f), contact forces",
+            )
+            ax.plot(
+                f_bc[shown],
+                fo["P_bc"][row][shown],
+                "-",
+                color="tab:red",
+                lw=1.2,
+                label=r"P($f_{bc}$), binary collisions (5.4)",
+            )
+            ax.set_title(
+                f"ν = {runs['packing_fraction'][row]:.3f}: ξ_|C|/ξ_el = {res['ratio'][row]:.2f} ± "
+                f"{res['ratio_error'][row]:.2f}\n{decision(table, row)}",
+                fontsize=8,
+            )
             ax.set_xlabel("f")
             ax.set_ylabel("P(f)")
             top = np.nanmax(fo["P"][row][shown])
             ax.set_ylim(0, 1.4 * top if np.isfinite(top) and top > 0 else 1)
-        for ax in axes.ravel()[len(chosen):]:
+        for ax in axes.ravel()[len(chosen) :]:
             ax.set_visible(False)
         axes[0, 0].legend(fontsize=7)
-        fig.suptitle(f"Thesis Fig. 5.7: P(f) against the binary-collision prediction, e = {args.restitution:g}, "
-                     f"μ = 0 (N = {int(runs['grains'][rows[0]])}; the P(f_bc) spike at f = 0 counts contacts "
-                     "without approach)", fontsize=10)
+        fig.suptitle(
+            f"Thesis Fig. 5.7: P(f) against the binary-collision prediction, e = {args.restitution:g}, "
+            f"μ = 0 (N = {int(runs['grains'][rows[0]])}; the P(f_bc) spike at f = 0 counts contacts "
+            "without approach)",
+            fontsize=10,
+        )
     else:
         fig, (left, right) = plt.subplots(1, 2, figsize=(12, 7.5))
         nu_rows = []
@@ -78,15 +97,23 @@ def main():
                 nu_rows.append(row)
         for ax, chosen, key in ((left, nu_rows, "e"), (right, spread(rows, 6), "ν")):
             for k, row in enumerate(chosen):
-                scale = 10.0 ** k
+                scale = 10.0**k
                 p, err = fo["P"][row][shown] * scale, fo["P_error"][row][shown] * scale
                 value = runs["restitution"][row] if key == "e" else runs["packing_fraction"][row]
                 mark = "peak at f > 0" if fo["peak"][row] == 1 else "max at f = 0"
                 positive = p > 0
-                ax.fill_between(f[shown], np.where(p - err > 0, p - err, np.nan), p + err, color=f"C{k}", alpha=0.25,
-                                lw=0)
-                ax.plot(f[shown][positive], p[positive], "o-", ms=2.5, lw=0.7, color=f"C{k}",
-                        label=f"{key} = {value:.3g}: ξ_|C|/ξ_el = {res['ratio'][row]:.2f}, {mark}")
+                ax.fill_between(
+                    f[shown], np.where(p - err > 0, p - err, np.nan), p + err, color=f"C{k}", alpha=0.25, lw=0
+                )
+                ax.plot(
+                    f[shown][positive],
+                    p[positive],
+                    "o-",
+                    ms=2.5,
+                    lw=0.7,
+                    color=f"C{k}",
+                    label=f"{key} = {value:.3g}: ξ_|C|/ξ_el = {res['ratio'][row]:.2f}, {mark}",
+                )
             ax.set_yscale("log")
             ax.set_xlabel("f = F/⟨F⟩")
             ax.set_ylabel("P(f) × 10^k (offset)")
@@ -97,8 +124,11 @@ def main():
             ax.legend(handles[::-1], labels[::-1], fontsize=7, loc="upper right")
         left.set_title(f"ν ≈ {args.nu:g}, every e", fontsize=9)
         right.set_title(f"e = {args.restitution:g}, six ν spread over the sweep", fontsize=9)
-        fig.suptitle("Thesis Fig. 5.8: P(f) at small f; the thesis finds a peak at f > 0 iff ξ/ξ_el < 1.22–1.25 "
-                     f"(N = {int(runs['grains'][rows[0]])}, μ = 0)", fontsize=10)
+        fig.suptitle(
+            "Thesis Fig. 5.8: P(f) at small f; the thesis finds a peak at f > 0 iff ξ/ξ_el < 1.22–1.25 "
+            f"(N = {int(runs['grains'][rows[0]])}, μ = 0)",
+            fontsize=10,
+        )
     fig.tight_layout()
     save_figure(fig, args.output)
 

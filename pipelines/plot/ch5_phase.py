@@ -48,8 +48,10 @@ def main():
             ax.errorbar(*point, fmt="o", ms=6, capsize=3, **err, **style)
         elif s["status"] in ("all_below", "all_above"):
             nu = hi if s["status"] == "all_below" else lo
-            marker = {"5.9": "^" if s["status"] == "all_below" else "v",
-                      "5.10": ">" if s["status"] == "all_below" else "<"}[args.figure]
+            marker = {
+                "5.9": "^" if s["status"] == "all_below" else "v",
+                "5.10": ">" if s["status"] == "all_below" else "<",
+            }[args.figure]
             ax.plot(*((e, nu) if args.figure == "5.9" else (nu, e)), marker, ms=8, **style)
             note.append(f"e={e:g}, μ={s['friction']:g}: ν_bc {'>' if s['status'] == 'all_below' else '<'} {nu:.3f}")
         else:
@@ -59,8 +61,9 @@ def main():
     frictionless = [s for s in res["series"] if s["friction"] == 0 and s["status"] == "bracketed"]
     if args.figure == "5.9":
         if frictionless:
-            ax.plot([s["restitution"] for s in frictionless], [s["nu_bc"] for s in frictionless], "-", color="C0",
-                    lw=0.8)
+            ax.plot(
+                [s["restitution"] for s in frictionless], [s["nu_bc"] for s in frictionless], "-", color="C0", lw=0.8
+            )
         ax.axhline(NU_C, color="k", ls="--", lw=1, label="ν_c ≈ 0.845 (thesis)")
         ax.set_xlabel("restitution e")
         ax.set_ylabel(r"$\nu_{bc}$")
@@ -71,15 +74,34 @@ def main():
         beyond = mask & ~res["measurable"]
         dense = mask & res["measurable"] & (res["ratio"] >= res["threshold"])
         dilute = mask & res["measurable"] & (res["ratio"] < res["threshold"])
-        ax.plot(runs["packing_fraction"][dilute], runs["restitution"][dilute], "s", ms=4, color="tab:green",
-                alpha=0.6, label="run: ξ/ξ_el < 1.25")
-        ax.plot(runs["packing_fraction"][dense], runs["restitution"][dense], "D", ms=4, color="tab:orange",
-                alpha=0.6, label="run: ξ/ξ_el ≥ 1.25")
-        ax.plot(runs["packing_fraction"][beyond], runs["restitution"][beyond], "x", ms=5, color="tab:red",
-                label="run: correlations reach the box")
+        ax.plot(
+            runs["packing_fraction"][dilute],
+            runs["restitution"][dilute],
+            "s",
+            ms=4,
+            color="tab:green",
+            alpha=0.6,
+            label="run: ξ/ξ_el < 1.25",
+        )
+        ax.plot(
+            runs["packing_fraction"][dense],
+            runs["restitution"][dense],
+            "D",
+            ms=4,
+            color="tab:orange",
+            alpha=0.6,
+            label="run: ξ/ξ_el ≥ 1.25",
+        )
+        ax.plot(
+            runs["packing_fraction"][beyond],
+            runs["restitution"][beyond],
+            "x",
+            ms=5,
+            color="tab:red",
+            label="run: correlations reach the box",
+        )
         if frictionless:
-            ax.plot([s["nu_bc"] for s in frictionless], [s["restitution"] for s in frictionless], "-", color="C0",
-                    lw=1)
+            ax.plot([s["nu_bc"] for s in frictionless], [s["restitution"] for s in frictionless], "-", color="C0", lw=1)
         ax.axvline(NU_C, color="k", ls="--", lw=1, label="ν_c ≈ 0.845 (thesis)")
         low, high = np.nanmin(runs["packing_fraction"]), NU_C
         ax.text(low + 0.02, 1.03, "dilute inertial\n(binary collisions)", fontsize=8, va="bottom")
@@ -92,9 +114,11 @@ def main():
         title = "Thesis Fig. 5.10: phase diagram of granular shear flow"
     ax.legend(fontsize=7, loc="lower right" if args.figure == "5.9" else "lower left")
     sigma = ct.mean_diameter(table)
-    ax.set_title(f"{title}\nN = {int(runs['grains'][0])}, ξ_el = ({res['xi_el'] / sigma:.3f} ± "
-                 f"{res['xi_el_error'] / sigma:.3f})σ"
-                 + ("\n" + "; ".join(note) if note else ""), fontsize=8)
+    ax.set_title(
+        f"{title}\nN = {int(runs['grains'][0])}, ξ_el = ({res['xi_el'] / sigma:.3f} ± "
+        f"{res['xi_el_error'] / sigma:.3f})σ" + ("\n" + "; ".join(note) if note else ""),
+        fontsize=8,
+    )
     save_figure(fig, args.output)
 
 

@@ -18,10 +18,14 @@ from granflow_py.plotting import plt, save_figure
 def series(table, vary, restitution):
     runs = table["runs"]
     if vary == "restitution":
-        return [(f"e = {e:g}", dict(restitution=e, friction=0.0))
-                for e in np.unique(runs["restitution"][np.abs(runs["friction"]) < 1e-9])]
-    return [(f"μ = {mu:g}", dict(restitution=restitution, friction=mu))
-            for mu in np.unique(runs["friction"][np.abs(runs["restitution"] - restitution) < 1e-6])]
+        return [
+            (f"e = {e:g}", dict(restitution=e, friction=0.0))
+            for e in np.unique(runs["restitution"][np.abs(runs["friction"]) < 1e-9])
+        ]
+    return [
+        (f"μ = {mu:g}", dict(restitution=restitution, friction=mu))
+        for mu in np.unique(runs["friction"][np.abs(runs["restitution"] - restitution) < 1e-6])
+    ]
 
 
 def main():
@@ -49,8 +53,16 @@ def main():
             if a is None:
                 continue
             show = ok & (nu >= args.inset_from - 1e-9) if a is inset else ok
-            a.errorbar(nu[show], xi[show], yerr=err[show], fmt="o-", ms=size, capsize=2, color=f"C{k}",
-                       label=label if a is ax else None)
+            a.errorbar(
+                nu[show],
+                xi[show],
+                yerr=err[show],
+                fmt="o-",
+                ms=size,
+                capsize=2,
+                color=f"C{k}",
+                label=label if a is ax else None,
+            )
             beyond = ~ok & (nu >= args.inset_from - 1e-9) if a is inset else ~ok
             a.plot(nu[beyond], xi[beyond], "o", mfc="none", ms=size + 1, color=f"C{k}")
         plotted += 1
@@ -62,16 +74,28 @@ def main():
     if inset is not None:
         inset.set_title(f"ν ≥ {args.inset_from:g}", fontsize=8)
         inset.tick_params(labelsize=7)
-    ax.plot([], [], "o", mfc="none", color="grey",
-            label=f"not measurable: > {100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3")
+    ax.plot(
+        [],
+        [],
+        "o",
+        mfc="none",
+        color="grey",
+        label=f"not measurable: > {100 * res['max_tail_share']:g} % of ∫ℓ|C| beyond 2ℓ_max/3",
+    )
     ax.set_xlabel("packing fraction ν")
     ax.set_ylabel(r"$\xi_{|C|}/\sigma$")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     runs = table["runs"]
-    what = ("Fig. 5.3: ξ for every e, μ = 0" if args.vary == "restitution"
-            else f"Fig. 5.4: ξ for every μ, e = {args.restitution:g}")
-    ax.set_title(f"Thesis {what}\nN = {int(runs['grains'][0])}; dashed ξ_el = {res['xi_el'] / sigma:.3f}σ "
-                 f"(thesis 0.785σ, other normalisation), dotted 1.25 ξ_el", fontsize=9)
+    what = (
+        "Fig. 5.3: ξ for every e, μ = 0"
+        if args.vary == "restitution"
+        else f"Fig. 5.4: ξ for every μ, e = {args.restitution:g}"
+    )
+    ax.set_title(
+        f"Thesis {what}\nN = {int(runs['grains'][0])}; dashed ξ_el = {res['xi_el'] / sigma:.3f}σ "
+        f"(thesis 0.785σ, other normalisation), dotted 1.25 ξ_el",
+        fontsize=9,
+    )
     save_figure(fig, args.output)
 
 

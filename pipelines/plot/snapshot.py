@@ -29,8 +29,10 @@ def main():
     ax.set_ylim(0 if periodic_y else d["position"][:, 1].min() - d["radius"].max(), ly)
     ax.set_aspect("equal")
     p = d["parameters"]
-    ax.set_title(f"{os.path.basename(args.input)}: N={len(d['radius'])}"
-                 + (f", ν={float(p['packing-fraction']):.3f}" if "packing-fraction" in p else ""))
+    ax.set_title(
+        f"{os.path.basename(args.input)}: N={len(d['radius'])}"
+        + (f", ν={float(p['packing-fraction']):.3f}" if "packing-fraction" in p else "")
+    )
     save_figure(fig, args.output)
 
 

@@ -16,7 +16,7 @@ def ar1(phi, n, rng, burn=2000):
     """Stationary AR(1) series x_t = phi x_{t-1} + eps_t with unit-variance eps."""
     eps = rng.normal(size=n + burn)
     x = np.empty_like(eps)
-    x[0] = eps[0] / np.sqrt(1 - phi ** 2)
+    x[0] = eps[0] / np.sqrt(1 - phi**2)
     for i in range(1, len(eps)):
         x[i] = phi * x[i - 1] + eps[i]
     return x[burn:]
@@ -25,7 +25,7 @@ def ar1(phi, n, rng, burn=2000):
 def ar1_mean_se(phi, n):
     """Exact standard error of the mean of n samples of ar1(phi) (unit-variance noise)."""
     k = np.arange(1, n)
-    return np.sqrt((1 + 2 * np.sum((1 - k / n) * phi ** k)) / ((1 - phi ** 2) * n))
+    return np.sqrt((1 + 2 * np.sum((1 - k / n) * phi**k)) / ((1 - phi**2) * n))
 
 
 def _element(group, name, value, steps, times):
@@ -44,42 +44,77 @@ def _tensor(pressure, shear, n1):
     return t
 
 
-def write_run(path, pressure_static, pressure_kinetic, shear_stress, temperature, *, rate=1e-2,
-              strain_step=1e-3, restitution=0.0, friction=0.0, packing_fraction=0.8, n1=0.01,
-              grains=16, mean_radius=0.7, seed=1, frame_every=50, rng=None):
+def write_run(
+    path,
+    pressure_static,
+    pressure_kinetic,
+    shear_stress,
+    temperature,
+    *,
+    rate=1e-2,
+    strain_step=1e-3,
+    restitution=0.0,
+    friction=0.0,
+    packing_fraction=0.8,
+    n1=0.01,
+    grains=16,
+    mean_radius=0.7,
+    seed=1,
+    frame_every=50,
+    rng=None,
+):
     """Write a trajectory whose rows are steps 1..n; the stresses are split as
     kinetic + static (total), with the collisional part 0.9 x static."""
     rng = rng or np.random.default_rng(seed)
-    ps, pk, s, temp = (np.asarray(a, dtype=float) for a in (pressure_static, pressure_kinetic,
-                                                              shear_stress, temperature))
+    ps, pk, s, temp = (
+        np.asarray(a, dtype=float) for a in (pressure_static, pressure_kinetic, shear_stress, temperature)
+    )
     n = len(ps)
     steps = np.arange(1, n + 1)
     dt = strain_step / rate
     times = steps * dt
     radius = mean_radius * (1 + 0.26 * rng.uniform(-1, 1, grains))
-    mass = np.pi * radius ** 2
+    mass = np.pi * radius**2
     side = np.sqrt(mass.sum() / packing_fraction)
     p = ps + pk
     with h5py.File(path, "w") as f:
         f.attrs["note"] = "synthetic gf-shear trajectory (tests)"
         prm = f.create_group("parameters")
-        prm.attrs.update({"rate": rate, "strain": n * strain_step, "strain-step": strain_step,
-                          "restitution": restitution, "tangential-restitution": restitution,
-                          "friction": friction, "frame-every": np.int64(frame_every), "seed": np.int64(seed),
-                          "packing_fraction": packing_fraction, "mean_radius": float(radius.mean()),
-                          "mean_mass": float(mass.mean()), "dt": dt, "grains": np.int64(grains),
-                          "program": "gf-shear"})
+        prm.attrs.update(
+            {
+                "rate": rate,
+                "strain": n * strain_step,
+                "strain-step": strain_step,
+                "restitution": restitution,
+                "tangential-restitution": restitution,
+                "friction": friction,
+                "frame-every": np.int64(frame_every),
+                "seed": np.int64(seed),
+                "packing_fraction": packing_fraction,
+                "mean_radius": float(radius.mean()),
+                "mean_mass": float(mass.mean()),
+                "dt": dt,
+                "grains": np.int64(grains),
+                "program": "gf-shear",
+            }
+        )
         obs = f.create_group("observables")
-        for name, value in (("strain", times * rate), ("pressure", p), ("shear_stress", s),
-                            ("normal_stress_difference", np.full(n, n1)), ("temperature", temp),
-                            ("stress_kinetic", _tensor(pk, s * pk / p, n1)),
-                            ("stress_static", _tensor(ps, s * ps / p, n1)),
-                            ("stress_collisional", _tensor(0.9 * ps, 0.9 * s * ps / p, n1)),
-                            ("contacts", np.full(n, grains, dtype=np.int64)),
-                            ("solver_iterations", np.full(n, 10, dtype=np.int64)),
-                            ("solver_residual", np.full(n, 1e-12)), ("max_overlap", np.full(n, 1e-10))):
+        for name, value in (
+            ("strain", times * rate),
+            ("pressure", p),
+            ("shear_stress", s),
+            ("normal_stress_difference", np.full(n, n1)),
+            ("temperature", temp),
+            ("stress_kinetic", _tensor(pk, s * pk / p, n1)),
+            ("stress_static", _tensor(ps, s * ps / p, n1)),
+            ("stress_collisional", _tensor(0.9 * ps, 0.9 * s * ps / p, n1)),
+            ("contacts", np.full(n, grains, dtype=np.int64)),
+            ("solver_iterations", np.full(n, 10, dtype=np.int64)),
+            ("solver_residual", np.full(n, 1e-12)),
+            ("max_overlap", np.full(n, 1e-10)),
+        ):
             _element(obs, name, value, steps, times)
-        frames = np.concatenate(([0], steps[frame_every - 1::frame_every]))
+        frames = np.concatenate(([0], steps[frame_every - 1 :: frame_every]))
         g = f.create_group("particles/grains")
         g.create_dataset("radius", data=radius)
         g.create_dataset("mass", data=mass)
@@ -103,8 +138,9 @@ def write_run(path, pressure_static, pressure_kinetic, shear_stress, temperature
 def write_packing(path, packing_fraction=0.8, grains=16, seed=1):
     """The parts of a gf-pack packing that report.py reads."""
     with h5py.File(path, "w") as f:
-        f.create_group("parameters").attrs.update({"packing-fraction": packing_fraction, "mean-diameter": 1.4,
-                                                   "seed": np.int64(seed)})
+        f.create_group("parameters").attrs.update(
+            {"packing-fraction": packing_fraction, "mean-diameter": 1.4, "seed": np.int64(seed)}
+        )
         f.create_dataset("particles/grains/radius", data=np.full(grains, 0.7))
         obs = f.create_group("observables")
         for name, value in (("packing_fraction", packing_fraction), ("max_overlap", 1e-10), ("wall_seconds", 0.1)):
@@ -122,8 +158,21 @@ def correlation_row(r, xi, amplitude=0.05, contact=1.4, oscillation=None, noise=
     return c + noise * rng.normal(size=len(r)), np.full(len(r), noise if noise > 0 else 1e-12)
 
 
-def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0, angle_bins=24, grains=1000,
-                          frames=200, reference=(), xi_abs_el=(1.7, 0.01), sweep_abs=(), rng=None):
+def write_correlate_table(
+    path,
+    rows,
+    *,
+    sigma=1.4,
+    bin_width=0.07,
+    max_lag=21.0,
+    angle_bins=24,
+    grains=1000,
+    frames=200,
+    reference=(),
+    xi_abs_el=(1.7, 0.01),
+    sweep_abs=(),
+    rng=None,
+):
     """A gf-correlate output with the datasets the chapter-5 scripts read. `rows` is a list of
     dicts: input, packing_fraction, restitution, friction, C, C_error (over the radial bins of
     bin_width up to max_lag), and optionally xi, xi_error (eq. 5.2), a0, theta0 (ξ(θ) made from
@@ -139,8 +188,12 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
     n = len(rows)
     col = lambda name, default=np.nan: np.array([row.get(name, default) for row in rows], dtype=float)  # noqa: E731
     xi = col("xi", 1.5)
-    xi_theta = np.array([x / (2 * np.pi) * (1 - row.get("a0", 0.3) * np.sin(2 * (theta - row.get("theta0", 0.0))))
-                         for x, row in zip(xi, rows)])
+    xi_theta = np.array(
+        [
+            x / (2 * np.pi) * (1 - row.get("a0", 0.3) * np.sin(2 * (theta - row.get("theta0", 0.0))))
+            for x, row in zip(xi, rows)
+        ]
+    )
     xi_theta_error = 0.02 * np.abs(xi_theta).mean(axis=1, keepdims=True) * np.ones_like(xi_theta)
     xi_theta = xi_theta + xi_theta_error * rng.normal(size=xi_theta.shape)
 
@@ -159,9 +212,16 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
         g["frames"] = np.full(n, frames, dtype=np.int64)
         g["first_strain"], g["last_strain"] = np.full(n, 0.5), np.full(n, 5.0)
         c = out.create_group("correlation")
-        c.attrs.update({"mean_diameter": sigma, "bin_width": bin_width, "max_lag": max_lag,
-                        "angle_bins": angle_bins, "from_strain": 0.5,
-                        "detect_transient": np.int64(1)})
+        c.attrs.update(
+            {
+                "mean_diameter": sigma,
+                "bin_width": bin_width,
+                "max_lag": max_lag,
+                "angle_bins": angle_bins,
+                "from_strain": 0.5,
+                "detect_transient": np.int64(1),
+            }
+        )
         c["r"] = r
         c["C"] = np.array([row["C"] for row in rows])
         c["C_error"] = np.array([row["C_error"] for row in rows])
@@ -171,8 +231,15 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
             c[name] = col(name, 0.3 if name == "a0" else 0.0)
             c[name + "_error"] = np.full(n, 0.02)
         c["fit_chi2_dof"] = np.ones(n)
-        c.attrs.update({"abs_bin_width": 5 * bin_width, "abs_noise": 2.0, "abs_threshold": "soft",
-                        "abs_tail_from": 2 / 3, "abs_max_tail_share": 0.05})
+        c.attrs.update(
+            {
+                "abs_bin_width": 5 * bin_width,
+                "abs_noise": 2.0,
+                "abs_threshold": "soft",
+                "abs_tail_from": 2 / 3,
+                "abs_max_tail_share": 0.05,
+            }
+        )
         xi_abs = col("xi_abs", 1.5)
         c["xi_abs"], c["xi_abs_error"] = xi_abs, col("xi_abs_error", 0.02)
         c["measurable"] = col("measurable", 1).astype(np.int32)
@@ -181,7 +248,9 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
         c["xi_abs_el"], c["xi_abs_el_error"] = float(xi_abs_el[0]), float(xi_abs_el[1])
         ratio = xi_abs / xi_abs_el[0]
         c["xi_abs_ratio"] = ratio
-        c["xi_abs_ratio_error"] = np.abs(ratio) * np.hypot(col("xi_abs_error", 0.02) / xi_abs, xi_abs_el[1] / xi_abs_el[0])
+        c["xi_abs_ratio_error"] = np.abs(ratio) * np.hypot(
+            col("xi_abs_error", 0.02) / xi_abs, xi_abs_el[1] / xi_abs_el[0]
+        )
         a0_abs = col("a0_abs", 0.1)
         c["xi_abs_theta"] = np.array([x * (1 - a * np.sin(2 * theta)) for x, a in zip(xi_abs, a0_abs)])
         c["xi_abs_theta_error"] = 0.01 * np.abs(c["xi_abs_theta"][()])
@@ -203,8 +272,9 @@ def write_correlate_table(path, rows, *, sigma=1.4, bin_width=0.07, max_lag=21.0
         s["nu_bc"], s["nu_bc_error"] = np.full(len(keys), np.nan), np.full(len(keys), np.nan)
         s["status"] = np.full(len(keys), 2, dtype=np.int64)
         given = {(g["restitution"], g["friction"]): g for g in sweep_abs}
-        rows_of = lambda k: sum(1 for row in rows if (row["restitution"], row["friction"]) == k  # noqa: E731
-                                and row.get("measurable", 1))
+        rows_of = lambda k: sum(
+            1 for row in rows if (row["restitution"], row["friction"]) == k and row.get("measurable", 1)  # noqa: E731
+        )
         pick = lambda name, k, default: given[k].get(name, default) if k in given else default  # noqa: E731
         s["nu_bc_abs"] = np.array([pick("nu_bc", k, np.nan) for k in keys])
         s["nu_bc_abs_error"] = np.array([pick("nu_bc_error", k, np.nan) for k in keys])
@@ -255,38 +325,70 @@ def chapter5_tables(d):
     r = (np.arange(300) + 0.5) * 0.07
     rows = []
     for mu in (0.0, 0.4):
-        for e in ((0.0, 0.25, 0.5, 0.75, 0.92) if mu == 0 else (0.0,)):
+        for e in (0.0, 0.25, 0.5, 0.75, 0.92) if mu == 0 else (0.0,):
             for nu in (0.3, 0.6, 0.7, 0.77, 0.81):
                 xi = 0.3 + 3.0 * max(0.0, nu - 0.55 - 0.2 * e) + (0.5 if mu > 0 and nu > 0.7 else 0)
                 c, err = correlation_row(r, xi, noise=1e-4, rng=rng)
                 dense = 1.4 + xi >= 1.25 * 1.7
-                rows.append(dict(input=os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}_mu{mu:.2f}.h5"),
-                                 packing_fraction=nu, restitution=e, friction=mu, C=c, C_error=err,
-                                 xi=1.4 + xi, xi_error=0.05, xi_abs=1.4 + xi, xi_abs_error=0.02,
-                                 measurable=0 if (nu, e, mu) in CH5_NOT_MEASURABLE else 1,
-                                 xi_abs_tail=0.2 if (nu, e, mu) in CH5_NOT_MEASURABLE else 0.001,
-                                 peak=0 if dense else 1, force_mode=0.0 if dense else 0.8))
+                rows.append(
+                    dict(
+                        input=os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}_mu{mu:.2f}.h5"),
+                        packing_fraction=nu,
+                        restitution=e,
+                        friction=mu,
+                        C=c,
+                        C_error=err,
+                        xi=1.4 + xi,
+                        xi_error=0.05,
+                        xi_abs=1.4 + xi,
+                        xi_abs_error=0.02,
+                        measurable=0 if (nu, e, mu) in CH5_NOT_MEASURABLE else 1,
+                        xi_abs_tail=0.2 if (nu, e, mu) in CH5_NOT_MEASURABLE else 0.001,
+                        peak=0 if dense else 1,
+                        force_mode=0.0 if dense else 0.8,
+                    )
+                )
     ref = rows[4 * 5 + 0]["input"]  # e = 0.92, ν = 0.3
-    sweep = [dict(restitution=e, friction=mu, nu_bc=v, nu_bc_error=0.004, nu_below=0.6 + 0.1 * (v > 0.7),
-                  nu_above=0.7 + 0.07 * (v > 0.7), status=0) for (e, mu), v in CH5_NU_BC.items()]
-    table = write_correlate_table(os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref],
-                                  xi_abs_el=(1.7, 0.012), sweep_abs=sweep)
+    sweep = [
+        dict(
+            restitution=e,
+            friction=mu,
+            nu_bc=v,
+            nu_bc_error=0.004,
+            nu_below=0.6 + 0.1 * (v > 0.7),
+            nu_above=0.7 + 0.07 * (v > 0.7),
+            status=0,
+        )
+        for (e, mu), v in CH5_NU_BC.items()
+    ]
+    table = write_correlate_table(
+        os.path.join(d, "ch5_correlate.h5"), rows, reference=[ref], xi_abs_el=(1.7, 0.012), sweep_abs=sweep
+    )
     runs = [write_packing(os.path.join(d, f"window{k}.h5")) for k in range(2)]
-    labels = [np.array([0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 4, 0, 5, 5, 0, 0]),
-              np.array([1] * 10 + [2, 2, 2, 0, 0, 0])]
+    labels = [np.array([0, 1, 1, 2, 2, 3, 3, 0, 0, 4, 4, 0, 5, 5, 0, 0]), np.array([1] * 10 + [2, 2, 2, 0, 0, 0])]
     clusters = write_clusters_table(os.path.join(d, "ch5_clusters.h5"), runs, labels)
     packing = write_packing(os.path.join(d, "pack.h5"))
     return {"rows": rows, "table": table, "clusters": clusters, "packing": packing}
 
 
-def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=0.7, nu=0.8, bin_diameters=3.0,
-                     gravity=1.0, mt_over_pr2=0.05, base_anomaly=0.1):
+def bagnold_profiles(
+    angle,
+    *,
+    exponent=1.5,
+    height_diameters=25.0,
+    mean_radius=0.7,
+    nu=0.8,
+    bin_diameters=3.0,
+    gravity=1.0,
+    mt_over_pr2=0.05,
+    base_anomaly=0.1,
+):
     """Depth profiles of an ideal incline flow, in the gf-incline /profiles layout: ν constant,
     V_x = V_s − c (H − y)^exponent, Σ_yy = g cos θ W and s = g sin θ W with W = ν (H − y)
     (areal density 1), Σ_xx = Σ_yy, T = mt_over_pr2 · p ⟨R⟩²/m; the lowest layer's s/p and T
     are off by base_anomaly (relative), the top layer is half full."""
     d = 2 * mean_radius
-    mass = np.pi * mean_radius ** 2
+    mass = np.pi * mean_radius**2
     bin_ = bin_diameters * d
     height = height_diameters * d
     bins = int(np.ceil(height / bin_))
@@ -297,36 +399,68 @@ def bagnold_profiles(angle, *, exponent=1.5, height_diameters=25.0, mean_radius=
     nu_profile = np.full(bins, nu)
     nu_profile[-1] = 0.5 * nu
     c = 0.3
-    v = c * (height ** exponent - depth ** exponent)
+    v = c * (height**exponent - depth**exponent)
     rate = c * exponent * depth ** (exponent - 1)
     syy = np.cos(theta) * w
     s = np.sin(theta) * w
     s[0] *= 1 + base_anomaly
     p = syy.copy()
-    t = mt_over_pr2 * p * mean_radius ** 2 / mass
+    t = mt_over_pr2 * p * mean_radius**2 / mass
     t[0] *= 1 + base_anomaly
-    return {"y": y, "packing_fraction": nu_profile, "velocity_x": v, "shear_rate": rate, "temperature": t,
-            "pressure": p, "shear_stress": s, "stress_xx": syy.copy(), "stress_xy": -s, "stress_yy": syy,
-            "weight_above": w, "s_over_p": s / p, "inertial": rate * mean_radius / np.sqrt(t),
-            "mT_over_pR2": mass * t / (p * mean_radius ** 2), "_bin": bin_, "_height": height}
+    return {
+        "y": y,
+        "packing_fraction": nu_profile,
+        "velocity_x": v,
+        "shear_rate": rate,
+        "temperature": t,
+        "pressure": p,
+        "shear_stress": s,
+        "stress_xx": syy.copy(),
+        "stress_xy": -s,
+        "stress_yy": syy,
+        "weight_above": w,
+        "s_over_p": s / p,
+        "inertial": rate * mean_radius / np.sqrt(t),
+        "mT_over_pR2": mass * t / (p * mean_radius**2),
+        "_bin": bin_,
+        "_height": height,
+    }
 
 
-def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.0, restitution=0.5,
-                      mean_radius=0.7, width_diameters=40.0, nu=0.8, height_diameters=25.0, gravity=1.0,
-                      time_step=5e-3, observe_every=10, steady=1, steady_from_tau=100.0, seed=1, parent=None):
+def write_incline_run(
+    path,
+    angle,
+    *,
+    profiles=None,
+    flow_rate=None,
+    friction=0.0,
+    restitution=0.5,
+    mean_radius=0.7,
+    width_diameters=40.0,
+    nu=0.8,
+    height_diameters=25.0,
+    gravity=1.0,
+    time_step=5e-3,
+    observe_every=10,
+    steady=1,
+    steady_from_tau=100.0,
+    seed=1,
+    parent=None,
+):
     """A gf-incline trajectory with the parts the incline analyses read: /parameters,
     /observables/flow_rate (given series, one row per observe_every steps), /profiles (given,
     or bagnold_profiles) with its attributes, and two frames of grains (a base row and a layer).
     parent = (path, friction, time in τ): a branch, with gf-incline's input and parent_* provenance."""
     rng = np.random.default_rng(seed)
     d = 2 * mean_radius
-    mass = np.pi * mean_radius ** 2
+    mass = np.pi * mean_radius**2
     tau = np.sqrt(mean_radius / gravity)
     dt = time_step * tau
     lx = width_diameters * d
     if profiles is None:
-        profiles = bagnold_profiles(angle, mean_radius=mean_radius, nu=nu, height_diameters=height_diameters,
-                                    gravity=gravity)
+        profiles = bagnold_profiles(
+            angle, mean_radius=mean_radius, nu=nu, height_diameters=height_diameters, gravity=gravity
+        )
     grains = int(round(nu * lx * height_diameters * d / mass))
     if flow_rate is None:
         flow_rate = np.full(4000, 1.0) + 0.01 * rng.normal(size=4000)
@@ -336,14 +470,32 @@ def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.
     total_steps = int(steps[-1])
     with h5py.File(path, "w") as f:
         f.attrs["note"] = "synthetic gf-incline trajectory (tests)"
-        f.create_group("parameters").attrs.update({
-            "angle": float(angle), "friction": friction, "restitution": restitution, "tau": tau,
-            "gravity": gravity, "dt": dt, "total_steps": np.int64(total_steps), "grains": np.int64(grains),
-            "base_grains": np.int64(int(width_diameters)), "mean_radius": mean_radius, "mean_mass": mass,
-            "observe-every": np.int64(observe_every), "program": "gf-incline"})
+        f.create_group("parameters").attrs.update(
+            {
+                "angle": float(angle),
+                "friction": friction,
+                "restitution": restitution,
+                "tau": tau,
+                "gravity": gravity,
+                "dt": dt,
+                "total_steps": np.int64(total_steps),
+                "grains": np.int64(grains),
+                "base_grains": np.int64(int(width_diameters)),
+                "mean_radius": mean_radius,
+                "mean_mass": mass,
+                "observe-every": np.int64(observe_every),
+                "program": "gf-incline",
+            }
+        )
         if parent is not None:
-            f["parameters"].attrs.update({"input": parent[0], "input_time": parent[2] * tau,
-                                          "parent_friction": float(parent[1]), "parent_program": "gf-incline"})
+            f["parameters"].attrs.update(
+                {
+                    "input": parent[0],
+                    "input_time": parent[2] * tau,
+                    "parent_friction": float(parent[1]),
+                    "parent_program": "gf-incline",
+                }
+            )
         else:
             f["parameters"].attrs["input"] = "incline_pack.h5"
         obs = f.create_group("observables")
@@ -352,10 +504,19 @@ def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.
         for k, v in profiles.items():
             if not k.startswith("_"):
                 g.create_dataset(k, data=np.asarray(v, dtype=float))
-        g.attrs.update({"steady": np.int64(steady), "steady_from_given": np.int64(1),
-                        "steady_from_tau": steady_from_tau, "bin": float(profiles.get("_bin", 3 * d)),
-                        "layer_length": lx, "mean_radius": mean_radius, "mean_mass": mass, "gravity": gravity,
-                        "tau": tau})
+        g.attrs.update(
+            {
+                "steady": np.int64(steady),
+                "steady_from_given": np.int64(1),
+                "steady_from_tau": steady_from_tau,
+                "bin": float(profiles.get("_bin", 3 * d)),
+                "layer_length": lx,
+                "mean_radius": mean_radius,
+                "mean_mass": mass,
+                "gravity": gravity,
+                "tau": tau,
+            }
+        )
         base = int(width_diameters)
         radius = np.full(base + 50, mean_radius)
         fixed = np.zeros(len(radius), dtype=np.uint8)
@@ -370,7 +531,7 @@ def write_incline_run(path, angle, *, profiles=None, flow_rate=None, friction=0.
         frames = np.array([0, total_steps])
         pg = f.create_group("particles/grains")
         pg.create_dataset("radius", data=radius)
-        pg.create_dataset("mass", data=np.pi * radius ** 2)
+        pg.create_dataset("mass", data=np.pi * radius**2)
         pg.create_dataset("fixed", data=fixed)
         _element(pg, "position", pos, frames, frames * dt)
         _element(pg, "velocity", vel, frames, frames * dt)
@@ -384,7 +545,6 @@ class ScriptRunner:
 
     def run_script(self, script, *args):
         pipelines = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-        res = subprocess.run([sys.executable, os.path.join(pipelines, script), *args], capture_output=True,
-                             text=True)
+        res = subprocess.run([sys.executable, os.path.join(pipelines, script), *args], capture_output=True, text=True)
         self.assertEqual(res.returncode, 0, res.stderr)
         return res

@@ -25,14 +25,29 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
                 scale = 1 / (0.85 - nu) ** 2
                 p = scale * (2 + 0.2 * synthetic.ar1(0.8, n, rng))
                 path = os.path.join(d, f"shear_nu{nu:.3f}_e{e:.2f}.h5")
-                synthetic.write_run(path, 0.9 * p, 0.1 * p, 0.35 * p, np.full(n, 0.3 * scale),
-                                    packing_fraction=nu, restitution=e, rng=rng)
+                synthetic.write_run(
+                    path,
+                    0.9 * p,
+                    0.1 * p,
+                    0.35 * p,
+                    np.full(n, 0.3 * scale),
+                    packing_fraction=nu,
+                    restitution=e,
+                    rng=rng,
+                )
                 sweep.append(path)
         for rate in (1e-2, 1e2):
             p = 2 + 0.2 * synthetic.ar1(0.8, n, np.random.default_rng(9))
             path = os.path.join(d, f"shear_r{rate:.0e}.h5")
-            synthetic.write_run(path, 0.9 * p * rate ** 2, 0.1 * p * rate ** 2, 0.35 * p * rate ** 2,
-                                np.full(n, 0.3 * rate ** 2), rate=rate, rng=np.random.default_rng(9))
+            synthetic.write_run(
+                path,
+                0.9 * p * rate**2,
+                0.1 * p * rate**2,
+                0.35 * p * rate**2,
+                np.full(n, 0.3 * rate**2),
+                rate=rate,
+                rng=np.random.default_rng(9),
+            )
             cls.bagnold.append(path)
         cls.sweep_table, cls.bagnold_table = os.path.join(d, "ch4_sweep.h5"), os.path.join(d, "ch4_bagnold.h5")
         ss.write_table(cls.sweep_table, ss.analyse(sweep, 0.5), 0.5, "test")
@@ -45,12 +60,14 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_figures(self):
         d = self.tmp.name
-        calls = {"fig4_1.png": lambda out: ("plot/ch4_snapshot.py", self.bagnold[0], out),
-                 "fig4_2.png": lambda out: ("plot/ch4_bagnold.py", "--detect-transient", out, *self.bagnold),
-                 "fig4_3.png": lambda out: ("plot/ch4_invariants.py", "--detect-transient", self.bagnold[0], out),
-                 "fig4_4.png": lambda out: ("plot/ch4_rheology.py", self.sweep_table, out),
-                 "fig4_5.png": lambda out: ("plot/ch4_pressure_parts.py", self.sweep_table, out),
-                 "fig4_6.png": lambda out: ("plot/ch4_static_pressure.py", self.sweep_table, out)}
+        calls = {
+            "fig4_1.png": lambda out: ("plot/ch4_snapshot.py", self.bagnold[0], out),
+            "fig4_2.png": lambda out: ("plot/ch4_bagnold.py", "--detect-transient", out, *self.bagnold),
+            "fig4_3.png": lambda out: ("plot/ch4_invariants.py", "--detect-transient", self.bagnold[0], out),
+            "fig4_4.png": lambda out: ("plot/ch4_rheology.py", self.sweep_table, out),
+            "fig4_5.png": lambda out: ("plot/ch4_pressure_parts.py", self.sweep_table, out),
+            "fig4_6.png": lambda out: ("plot/ch4_static_pressure.py", self.sweep_table, out),
+        }
         for name, command in calls.items():
             out = os.path.join(d, name)
             with self.subTest(figure=name):
@@ -61,13 +78,31 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
-        self.run_script("report.py", "--size", "test", "--output", out, "--ch4-sweep", self.sweep_table,
-                        "--ch4-bagnold", self.bagnold_table, "--ch4-reference", self.bagnold[0], self.packing)
+        self.run_script(
+            "report.py",
+            "--size",
+            "test",
+            "--output",
+            out,
+            "--ch4-sweep",
+            self.sweep_table,
+            "--ch4-bagnold",
+            self.bagnold_table,
+            "--ch4-reference",
+            self.bagnold[0],
+            self.packing,
+        )
         with open(out) as fh:
             text = fh.read()
         self.assertIn("## Packings", text)
-        for needle in ("## Chapter 4", "(thesis l. 404)", "(thesis l. 377)", "| 0.800 |", "γ̇ = 100",
-                       "Flyvbjerg-Petersen"):
+        for needle in (
+            "## Chapter 4",
+            "(thesis l. 404)",
+            "(thesis l. 377)",
+            "| 0.800 |",
+            "γ̇ = 100",
+            "Flyvbjerg-Petersen",
+        ):
             self.assertIn(needle, text)
         # Identical normalised traces at the two rates: Bagnold difference of zero.
         self.assertRegex(text, r"\| p/\(γ̇²m\) \| [^|]+ \| [^|]+ \| \+0\.0 \|")

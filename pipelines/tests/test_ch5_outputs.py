@@ -73,8 +73,10 @@ class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         # Per run: gf-correlate's ξ_|C|, its error, flag and ratio, row by row.
         np.testing.assert_array_equal(res["xi"], [row["xi_abs"] for row in self.rows])
         np.testing.assert_array_equal(res["xi_error"], [0.02] * len(self.rows))
-        flagged = {(runs["packing_fraction"][i], runs["restitution"][i], runs["friction"][i])
-                   for i in np.flatnonzero(~res["measurable"])}
+        flagged = {
+            (runs["packing_fraction"][i], runs["restitution"][i], runs["friction"][i])
+            for i in np.flatnonzero(~res["measurable"])
+        }
         self.assertEqual(flagged, self.NOT_MEASURABLE)
         self.assertEqual(res["xi_el"], 1.7)
         self.assertEqual(res["xi_el_error"], 0.012)
@@ -95,6 +97,7 @@ class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         old = os.path.join(self.tmp.name, "old_table.h5")
         import shutil
         import h5py
+
         shutil.copy(self.table, old)
         with h5py.File(old, "a") as f:
             del f["correlation/xi_abs"]
@@ -105,16 +108,18 @@ class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_figures(self):
         d = self.tmp.name
-        calls = {"fig5_1.png": ("plot/ch5_clusters.py", self.clusters),
-                 "fig5_2.png": ("plot/ch5_correlation.py", self.table),
-                 "fig5_3.png": ("plot/ch5_xi.py", "--vary", "restitution", self.table),
-                 "fig5_4.png": ("plot/ch5_xi.py", "--vary", "friction", "--restitution", "0", self.table),
-                 "fig5_5.png": ("plot/ch5_anisotropy.py", "--figure", "5.5", self.table),
-                 "fig5_6.png": ("plot/ch5_anisotropy.py", "--figure", "5.6", self.table),
-                 "fig5_7.png": ("plot/ch5_forces.py", "--figure", "5.7", self.table),
-                 "fig5_8.png": ("plot/ch5_forces.py", "--figure", "5.8", self.table),
-                 "fig5_9.png": ("plot/ch5_phase.py", "--figure", "5.9", self.table),
-                 "fig5_10.png": ("plot/ch5_phase.py", "--figure", "5.10", self.table)}
+        calls = {
+            "fig5_1.png": ("plot/ch5_clusters.py", self.clusters),
+            "fig5_2.png": ("plot/ch5_correlation.py", self.table),
+            "fig5_3.png": ("plot/ch5_xi.py", "--vary", "restitution", self.table),
+            "fig5_4.png": ("plot/ch5_xi.py", "--vary", "friction", "--restitution", "0", self.table),
+            "fig5_5.png": ("plot/ch5_anisotropy.py", "--figure", "5.5", self.table),
+            "fig5_6.png": ("plot/ch5_anisotropy.py", "--figure", "5.6", self.table),
+            "fig5_7.png": ("plot/ch5_forces.py", "--figure", "5.7", self.table),
+            "fig5_8.png": ("plot/ch5_forces.py", "--figure", "5.8", self.table),
+            "fig5_9.png": ("plot/ch5_phase.py", "--figure", "5.9", self.table),
+            "fig5_10.png": ("plot/ch5_phase.py", "--figure", "5.10", self.table),
+        }
         for name, command in calls.items():
             out = os.path.join(d, name)
             with self.subTest(figure=name):
@@ -125,18 +130,41 @@ class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
-        self.run_script("report.py", "--size", "test", "--output", out, "--ch5-correlate", self.table,
-                        "--ch5-clusters", self.clusters, self.packing)
+        self.run_script(
+            "report.py",
+            "--size",
+            "test",
+            "--output",
+            out,
+            "--ch5-correlate",
+            self.table,
+            "--ch5-clusters",
+            self.clusters,
+            self.packing,
+        )
         with open(out) as fh:
             text = fh.read()
-        for needle in ("## Chapter 5", "(thesis l. 555)", "(thesis l. 645)", "| 0.770 |", "all_below",
-                       "a0 = ", "| `window1.h5` | 2 | 13 | 2 | 10 |", "| 0 | 0 | 4 | 0.6917 ± 0.0040 | bracketed |",
-                       "| 0.25 | 0 | 5 | 0.7417 ± 0.0040 | bracketed |", "1.459 ± 0.016 † ○",
-                       "decay length per direction", "pooled fit of eq. 5.3's shape): a0 = 0.100"):
+        for needle in (
+            "## Chapter 5",
+            "(thesis l. 555)",
+            "(thesis l. 645)",
+            "| 0.770 |",
+            "all_below",
+            "a0 = ",
+            "| `window1.h5` | 2 | 13 | 2 | 10 |",
+            "| 0 | 0 | 4 | 0.6917 ± 0.0040 | bracketed |",
+            "| 0.25 | 0 | 5 | 0.7417 ± 0.0040 | bracketed |",
+            "1.459 ± 0.016 † ○",
+            "decay length per direction",
+            "pooled fit of eq. 5.3's shape): a0 = 0.100",
+        ):
             self.assertIn(needle, text)
         # The synthetic P(f) decisions follow the rule exactly.
-        self.assertRegex(text, r"of the (\d+) runs with ξ/ξ_el ≥ 1.25, \1 have their maximum at f = 0; "
-                               r"of the (\d+) runs with ξ/ξ_el < 1.25, \2 have a peak")
+        self.assertRegex(
+            text,
+            r"of the (\d+) runs with ξ/ξ_el ≥ 1.25, \1 have their maximum at f = 0; "
+            r"of the (\d+) runs with ξ/ξ_el < 1.25, \2 have a peak",
+        )
 
 
 if __name__ == "__main__":

@@ -82,8 +82,10 @@ def recording_reader(log, read_table):
     return read
 
 
-@unittest.skipUnless(all(os.path.isfile(os.path.join(BIN, p)) for p in PROGRAMS),
-                     "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it")
+@unittest.skipUnless(
+    all(os.path.isfile(os.path.join(BIN, p)) for p in PROGRAMS),
+    "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it",
+)
 class CorrelateSchemaTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -96,19 +98,82 @@ class CorrelateSchemaTest(unittest.TestCase):
         shear = []
         for nu, e in (("0.5", "0.92"), ("0.7", "0")):
             run("gf-pack", "--grains", "64", "--packing-fraction", nu, "--seed", "1", "-o", f"pack{nu}.h5")
-            run("gf-shear", "-i", f"pack{nu}.h5", "-o", f"shear{nu}.h5", "--rate", "1e-2", "--restitution", e,
-                "--friction", "0", "--seed", "1", "--strain", "0.2", "--strain-step", "1e-3", "--frame-every", "10")
+            run(
+                "gf-shear",
+                "-i",
+                f"pack{nu}.h5",
+                "-o",
+                f"shear{nu}.h5",
+                "--rate",
+                "1e-2",
+                "--restitution",
+                e,
+                "--friction",
+                "0",
+                "--seed",
+                "1",
+                "--strain",
+                "0.2",
+                "--strain-step",
+                "1e-3",
+                "--frame-every",
+                "10",
+            )
             shear.append(f"shear{nu}.h5")
-        run("gf-correlate", "-o", "correlate.h5", "--from-strain", "0.05", "--detect-transient",
-            "--reference", shear[0], *shear)
-        run("gf-shear", "-i", shear[1], "--frame", "-1", "-o", "window.h5", "--rate", "1e-2", "--restitution", "0",
-            "--friction", "0", "--seed", "1", "--steps", "10", "--strain-step", "1e-3", "--frame-every", "1")
-        run("gf-correlate", "-o", "clusters.h5", "--from-strain", "0", "--blocks", "1", "--bootstrap", "0",
-            "--clusters-window", "10", "window.h5")
+        run(
+            "gf-correlate",
+            "-o",
+            "correlate.h5",
+            "--from-strain",
+            "0.05",
+            "--detect-transient",
+            "--reference",
+            shear[0],
+            *shear,
+        )
+        run(
+            "gf-shear",
+            "-i",
+            shear[1],
+            "--frame",
+            "-1",
+            "-o",
+            "window.h5",
+            "--rate",
+            "1e-2",
+            "--restitution",
+            "0",
+            "--friction",
+            "0",
+            "--seed",
+            "1",
+            "--steps",
+            "10",
+            "--strain-step",
+            "1e-3",
+            "--frame-every",
+            "1",
+        )
+        run(
+            "gf-correlate",
+            "-o",
+            "clusters.h5",
+            "--from-strain",
+            "0",
+            "--blocks",
+            "1",
+            "--bootstrap",
+            "0",
+            "--clusters-window",
+            "10",
+            "window.h5",
+        )
         cls.synthetic = synthetic.chapter5_tables(d)
         # Each synthetic table and the real output it stands for.
-        cls.real = {cls.synthetic["table"]: os.path.join(d, "correlate.h5"),
-                    cls.synthetic["clusters"]: os.path.join(d, "clusters.h5")}
+        cls.real = {
+            cls.synthetic["table"]: os.path.join(d, "correlate.h5"),
+            cls.synthetic["clusters"]: os.path.join(d, "clusters.h5"),
+        }
 
     @classmethod
     def tearDownClass(cls):
@@ -125,19 +190,26 @@ class CorrelateSchemaTest(unittest.TestCase):
                     self.assertEqual(real_sets[name][1], kind, "dtype kind")
             for name, attrs in fake_attrs.items():
                 with self.subTest(table=os.path.basename(fake), attributes_of=name or "/"):
-                    self.assertLessEqual(attrs, real_attrs.get(name, set()),
-                                         "the fixture writes attributes gf-correlate does not")
+                    self.assertLessEqual(
+                        attrs, real_attrs.get(name, set()), "the fixture writes attributes gf-correlate does not"
+                    )
 
     def test_what_the_scripts_read_is_in_both(self):
         log = set()
         table, clusters = self.synthetic["table"], self.synthetic["clusters"]
         out = os.path.join(self.tmp.name, "figure.png")
-        commands = [("ch5_clusters.py", clusters), ("ch5_correlation.py", table),
-                    ("ch5_xi.py", "--vary", "restitution", table),
-                    ("ch5_xi.py", "--vary", "friction", "--restitution", "0", table),
-                    ("ch5_anisotropy.py", "--figure", "5.5", table), ("ch5_anisotropy.py", "--figure", "5.6", table),
-                    ("ch5_forces.py", "--figure", "5.7", table), ("ch5_forces.py", "--figure", "5.8", table),
-                    ("ch5_phase.py", "--figure", "5.9", table), ("ch5_phase.py", "--figure", "5.10", table)]
+        commands = [
+            ("ch5_clusters.py", clusters),
+            ("ch5_correlation.py", table),
+            ("ch5_xi.py", "--vary", "restitution", table),
+            ("ch5_xi.py", "--vary", "friction", "--restitution", "0", table),
+            ("ch5_anisotropy.py", "--figure", "5.5", table),
+            ("ch5_anisotropy.py", "--figure", "5.6", table),
+            ("ch5_forces.py", "--figure", "5.7", table),
+            ("ch5_forces.py", "--figure", "5.8", table),
+            ("ch5_phase.py", "--figure", "5.9", table),
+            ("ch5_phase.py", "--figure", "5.10", table),
+        ]
         with mock.patch.object(ct, "read_table", recording_reader(log, ct.read_table)):
             for script, *args in commands:
                 with self.subTest(script=script, args=args), mock.patch.object(sys, "argv", [script, *args, out]):

@@ -65,12 +65,20 @@ class TableTest(unittest.TestCase):
 
     def test_provenance_and_inputs(self):
         out = os.path.join(self.d, "table.h5")
-        with outputs.table(out, self.script, "maker.py -o table.h5 a.h5", {"window": 2.5},
-                           [("a.h5", "00ff"), ("b.h5", "ff00")]) as f:
+        with outputs.table(
+            out, self.script, "maker.py -o table.h5 a.h5", {"window": 2.5}, [("a.h5", "00ff"), ("b.h5", "ff00")]
+        ) as f:
             f["runs"].create_dataset("x", data=[1.0, 2.0])
         table = outputs.read_table(out, ("runs",))
-        self.assertEqual(table["parameters"], {"program": "maker.py", "script_sha256": sha256(self.script),
-                                               "command_line": "maker.py -o table.h5 a.h5", "window": 2.5})
+        self.assertEqual(
+            table["parameters"],
+            {
+                "program": "maker.py",
+                "script_sha256": sha256(self.script),
+                "command_line": "maker.py -o table.h5 a.h5",
+                "window": 2.5,
+            },
+        )
         self.assertEqual(list(table["runs"]["input"]), ["a.h5", "b.h5"])
         self.assertEqual(list(table["runs"]["input_sha256"]), ["00ff", "ff00"])
         np.testing.assert_array_equal(table["runs"]["x"], [1.0, 2.0])

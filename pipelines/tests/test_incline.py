@@ -66,8 +66,9 @@ class InclineBulkTest(unittest.TestCase):
 
     def test_base_layer_excluded_and_included(self):
         prof = synthetic.bagnold_profiles(12, base_anomaly=0.5)
-        self.assertAlmostEqual(ib.analyse_run(self.run_of(12, profiles=prof), 3, 8)["s_over_p"],
-                               math.tan(math.radians(12)), places=12)
+        self.assertAlmostEqual(
+            ib.analyse_run(self.run_of(12, profiles=prof), 3, 8)["s_over_p"], math.tan(math.radians(12)), places=12
+        )
         with_base = ib.analyse_run(self.run_of(12, profiles=prof), 0, 8)
         self.assertGreater(with_base["s_over_p"], 1.05 * math.tan(math.radians(12)))
         self.assertGreater(with_base["s_over_p_error"], 0)
@@ -84,8 +85,9 @@ class InclineBulkTest(unittest.TestCase):
 
     def test_too_thin(self):
         with self.assertRaisesRegex(ValueError, "bulk layers"):
-            ib.analyse_run(self.run_of(12, height_diameters=8,
-                                       profiles=synthetic.bagnold_profiles(12, height_diameters=8)), 3, 8)
+            ib.analyse_run(
+                self.run_of(12, height_diameters=8, profiles=synthetic.bagnold_profiles(12, height_diameters=8)), 3, 8
+            )
 
     def test_table_round_trip(self):
         paths = []
@@ -108,10 +110,12 @@ class CriticalAngleTest(unittest.TestCase):
     def test_states(self):
         n = 4000  # 200 τ; the analysed window is the last 100 τ
         t = np.arange(n) * 0.05
-        cases = {"rest": noise(n, 0.05, 1),
-                 "steady": 2.0 + noise(n, 0.05, 2),
-                 "decelerating": 2.0 * np.exp(-t / 40) + noise(n, 0.02, 3),
-                 "accelerating": 1.0 + 0.01 * t + noise(n, 0.02, 4)}
+        cases = {
+            "rest": noise(n, 0.05, 1),
+            "steady": 2.0 + noise(n, 0.05, 2),
+            "decelerating": 2.0 * np.exp(-t / 40) + noise(n, 0.02, 3),
+            "accelerating": 1.0 + 0.01 * t + noise(n, 0.02, 4),
+        }
         for expected, values in cases.items():
             with self.subTest(expected):
                 self.assertEqual(ca.classify(*self.series(values), 100, 0.02, 0.15)[0], expected)
@@ -133,8 +137,12 @@ class CriticalAngleTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             n = 4000
             t = np.arange(n) * 0.05
-            flows = {4: noise(n, 0.05, 1), 6: 1.5 * np.exp(-t / 60) + noise(n, 0.02, 2),
-                     8: 0.8 + noise(n, 0.05, 3), 10: 2.0 + noise(n, 0.05, 4)}
+            flows = {
+                4: noise(n, 0.05, 1),
+                6: 1.5 * np.exp(-t / 60) + noise(n, 0.02, 2),
+                8: 0.8 + noise(n, 0.05, 3),
+                10: 2.0 + noise(n, 0.05, 4),
+            }
             paths = []
             for angle in (10, 4, 8, 6):  # any order
                 paths.append(os.path.join(d, f"th{angle}.h5"))
@@ -147,15 +155,29 @@ class CriticalAngleTest(unittest.TestCase):
             self.assertAlmostEqual(result["half_width"], 1.0)
             self.assertAlmostEqual(rows[2]["mean_velocity"], 0.8, delta=0.01)
             out = os.path.join(d, "crit.h5")
-            res = subprocess.run([sys.executable, os.path.join(PIPELINES, "analysis", "critical_angle.py"),
-                                  "--window", "100", "-o", out, *paths], capture_output=True, text=True)
+            res = subprocess.run(
+                [
+                    sys.executable,
+                    os.path.join(PIPELINES, "analysis", "critical_angle.py"),
+                    "--window",
+                    "100",
+                    "-o",
+                    out,
+                    *paths,
+                ],
+                capture_output=True,
+                text=True,
+            )
             self.assertEqual(res.returncode, 0, res.stderr)
             self.assertIn("θ_c in (6°, 8°] = 7° ± 1°", res.stderr)
             self.assertEqual(ca.read_table(out)["critical_angle"]["theta_c"], 7.0)
             # Mixed frictions are two sweeps, not one.
             synthetic.write_incline_run(paths[0], 10, friction=0.4)
-            res = subprocess.run([sys.executable, os.path.join(PIPELINES, "analysis", "critical_angle.py"),
-                                  "-o", out + "2", *paths], capture_output=True, text=True)
+            res = subprocess.run(
+                [sys.executable, os.path.join(PIPELINES, "analysis", "critical_angle.py"), "-o", out + "2", *paths],
+                capture_output=True,
+                text=True,
+            )
             self.assertEqual(res.returncode, 2)
             self.assertIn("different friction", res.stderr)
             self.assertFalse(os.path.exists(out + "2"))
@@ -173,8 +195,9 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
             path = os.path.join(d, f"incline_th{angle}_mu{mu}.h5")
             # The μ = 0.4 run is a branch from the end of the 12° one, as at the quick size.
             parent = (cls.runs[1], 0.0, 400.0) if mu else None
-            synthetic.write_incline_run(path, angle, friction=mu, nu=nu, parent=parent,
-                                        profiles=synthetic.bagnold_profiles(angle, nu=nu))
+            synthetic.write_incline_run(
+                path, angle, friction=mu, nu=nu, parent=parent, profiles=synthetic.bagnold_profiles(angle, nu=nu)
+            )
             cls.runs.append(path)
         rest = os.path.join(d, "incline_th4.h5")
         synthetic.write_incline_run(rest, 4, flow_rate=noise(4000, 0.05, 7))
@@ -182,8 +205,7 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         ib.write_table(cls.incline_table, ib.analyse(cls.runs, 3, 8), 3, 8, "test")
         cls.critical_table = os.path.join(d, "ch4_critical_angle.h5")
         rows, result = ca.analyse([rest] + cls.runs[:2], 100, 0.02, 0.15)
-        ca.write_table(cls.critical_table, rows, result, {"window": 100, "rest_velocity": 0.02, "drift": 0.15},
-                       "test")
+        ca.write_table(cls.critical_table, rows, result, {"window": 100, "rest_velocity": 0.02, "drift": 0.15}, "test")
         shear = []
         rng = np.random.default_rng(3)
         for mu in (0.0, 0.4):
@@ -191,8 +213,17 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
                 scale = 1 / (0.85 - nu) ** 2
                 p = scale * (2 + 0.2 * synthetic.ar1(0.8, 600, rng))
                 path = os.path.join(d, f"shear_nu{nu}_mu{mu}.h5")
-                synthetic.write_run(path, 0.9 * p, 0.1 * p, 0.35 * p, np.full(600, 0.3 * scale),
-                                    packing_fraction=nu, restitution=0.5, friction=mu, rng=rng)
+                synthetic.write_run(
+                    path,
+                    0.9 * p,
+                    0.1 * p,
+                    0.35 * p,
+                    np.full(600, 0.3 * scale),
+                    packing_fraction=nu,
+                    restitution=0.5,
+                    friction=mu,
+                    rng=rng,
+                )
                 shear.append(path)
         cls.sweep_table = os.path.join(d, "ch4_sweep.h5")
         ss.write_table(cls.sweep_table, ss.analyse(shear, 0.1), 0.1, "test")
@@ -204,11 +235,18 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_figures(self):
         d = self.tmp.name
-        calls = {"fig4_7.png": ("plot/ch4_incline_snapshot.py", self.runs[1]),
-                 "fig4_8.png": ("plot/ch4_incline_profiles.py", self.runs[1]),
-                 "fig4_9.png": ("plot/ch4_incline_invariants.py", self.runs[1]),
-                 "fig4_10.png": ("plot/ch4_consistent_rheology.py", "--restitution", "0.5", self.incline_table,
-                                 self.sweep_table)}
+        calls = {
+            "fig4_7.png": ("plot/ch4_incline_snapshot.py", self.runs[1]),
+            "fig4_8.png": ("plot/ch4_incline_profiles.py", self.runs[1]),
+            "fig4_9.png": ("plot/ch4_incline_invariants.py", self.runs[1]),
+            "fig4_10.png": (
+                "plot/ch4_consistent_rheology.py",
+                "--restitution",
+                "0.5",
+                self.incline_table,
+                self.sweep_table,
+            ),
+        }
         for name, command in calls.items():
             out = os.path.join(d, name)
             with self.subTest(figure=name):
@@ -218,15 +256,32 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
-        self.run_script("report.py", "--size", "test", "--output", out, "--ch4-incline", self.incline_table,
-                        "--ch4-critical", self.critical_table, self.packing)
+        self.run_script(
+            "report.py",
+            "--size",
+            "test",
+            "--output",
+            out,
+            "--ch4-incline",
+            self.incline_table,
+            "--ch4-critical",
+            self.critical_table,
+            self.packing,
+        )
         with open(out) as fh:
             text = fh.read()
-        for needle in ("## Chapter 4: incline flow", "(thesis l. 449)", "(thesis l. 434)", "| 12 | 0 | 1.50 | 1.50 |",
-                       "θ_c = 7° ± 3°**: the lowest angle of steady flow lies in (4°, 10°].",
-                       "largest deviation over the bulk layers of all flowing runs 0.00%", "| 4 | 0 | ", "| rest |",
-                       "Branched runs (“from” and “run” count from the branch point; velocities kept): θ = 20°, "
-                       "μ = 0.4 from `incline_th12_mu0.0.h5` (μ = 0) at its 400 τ."):
+        for needle in (
+            "## Chapter 4: incline flow",
+            "(thesis l. 449)",
+            "(thesis l. 434)",
+            "| 12 | 0 | 1.50 | 1.50 |",
+            "θ_c = 7° ± 3°**: the lowest angle of steady flow lies in (4°, 10°].",
+            "largest deviation over the bulk layers of all flowing runs 0.00%",
+            "| 4 | 0 | ",
+            "| rest |",
+            "Branched runs (“from” and “run” count from the branch point; velocities kept): θ = 20°, "
+            "μ = 0.4 from `incline_th12_mu0.0.h5` (μ = 0) at its 400 τ.",
+        ):
             self.assertIn(needle, text)
         # s/p of each flowing run beside tan θ.
         for angle in (10, 12, 20):
@@ -235,6 +290,7 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     def test_report_against_shear(self):
         # The shear section needs the ch4 tables; here only the incline-vs-shear interpolation.
         import report
+
         sweep = ss.read_table(self.sweep_table)
         got = report.interpolate_shear(sweep, 0.0, 0.5, "s_over_p", 0.81)
         self.assertIsNotNone(got)

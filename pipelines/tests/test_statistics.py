@@ -24,6 +24,7 @@ TRANSIENT_BLOCKS = 100
 
 # ---- the algorithms written with numpy, the oracle ----
 
+
 def _chi2_99(dof):
     z = 2.3263478740408408
     return dof * (1 - 2 / (9 * dof) + z * math.sqrt(2 / (9 * dof))) ** 3
@@ -42,7 +43,7 @@ def oracle_blocking_error(x):
         var = np.mean(d * d)
         se2.append(var / (m - 1))
         n.append(m)
-        stat.append(0.0 if var == 0 else m * ((m - 1) * var / m ** 2 + np.mean(d[:-1] * d[1:])) ** 2 / var ** 2)
+        stat.append(0.0 if var == 0 else m * ((m - 1) * var / m**2 + np.mean(d[:-1] * d[1:])) ** 2 / var**2)
         x = 0.5 * (x[0::2] + x[1::2])
     levels = len(se2)
     tail = np.cumsum(stat[::-1])[::-1]
@@ -63,7 +64,7 @@ def oracle_mser_truncation(x):
     s1 = np.cumsum(d[::-1])[::-1]
     s2 = np.cumsum((d * d)[::-1])[::-1]
     m = n - np.arange(n // 2 + 1)
-    stat = np.maximum(0.0, s2[:n // 2 + 1] - s1[:n // 2 + 1] ** 2 / m) / m ** 2
+    stat = np.maximum(0.0, s2[: n // 2 + 1] - s1[: n // 2 + 1] ** 2 / m) / m**2
     return int(np.argmin(stat))
 
 
@@ -73,19 +74,22 @@ def oracle_first_row(series):
     blocks = len(series[0]) // rows
     d = 0
     for x in series:
-        d = max(d, oracle_mser_truncation(np.asarray(x)[:blocks * rows].reshape(blocks, rows).mean(axis=1)))
+        d = max(d, oracle_mser_truncation(np.asarray(x)[: blocks * rows].reshape(blocks, rows).mean(axis=1)))
     return d * rows
 
 
 def oracle_halves_change(x):
     x = np.asarray(x, dtype=float)
     half = len(x) // 2
-    first, second = x[:half], x[len(x) - half:]
-    return (float(np.mean(second) - np.mean(first)),
-            math.hypot(oracle_blocking_error(first)[0], oracle_blocking_error(second)[0]))
+    first, second = x[:half], x[len(x) - half :]
+    return (
+        float(np.mean(second) - np.mean(first)),
+        math.hypot(oracle_blocking_error(first)[0], oracle_blocking_error(second)[0]),
+    )
 
 
 # ---- random series ----
+
 
 def ar1(rng, n, phi, mean=0.0, scale=1.0):
     x = np.empty(n)
@@ -105,8 +109,13 @@ def series_zoo(seed, count):
         n = special[k] if k < len(special) else int(rng.integers(32, 5001))
         kind = k % 6
         if kind == 0:
-            x = ar1(rng, n, float(rng.choice([0.3, 0.7, 0.9, 0.99, 0.999])), mean=rng.uniform(-10, 10),
-                    scale=10.0 ** rng.uniform(-6, 3))
+            x = ar1(
+                rng,
+                n,
+                float(rng.choice([0.3, 0.7, 0.9, 0.99, 0.999])),
+                mean=rng.uniform(-10, 10),
+                scale=10.0 ** rng.uniform(-6, 3),
+            )
         elif kind == 1:
             x = rng.normal(rng.uniform(-1e3, 1e3), 10.0 ** rng.uniform(-8, 2), n)  # white noise on an offset
         elif kind == 2:
@@ -162,8 +171,7 @@ class BitIdentityTest(unittest.TestCase):
         zoo = series_zoo(15, 400)
         for a, b in zip(zoo[0::2], zoo[1::2]):
             n = min(len(a), len(b))
-            self.assertEqual(st.mser_first_row([a[:n], b[:n]], TRANSIENT_BLOCKS),
-                             oracle_first_row([a[:n], b[:n]]), n)
+            self.assertEqual(st.mser_first_row([a[:n], b[:n]], TRANSIENT_BLOCKS), oracle_first_row([a[:n], b[:n]]), n)
         self.assertEqual(st.mser_first_row([]), 0)
 
 
@@ -186,9 +194,11 @@ class InterfaceTest(unittest.TestCase):
             st.blocking_error(np.ones((40, 2)))
 
     def test_missing_library_names_the_path_and_the_build_command(self):
-        code = ("from granflow_py import statistics as st\n"
-                "try:\n    st.blocking_error([1.0] * 40)\n"
-                "except st.LibraryMissing as e:\n    print(e)\n")
+        code = (
+            "from granflow_py import statistics as st\n"
+            "try:\n    st.blocking_error([1.0] * 40)\n"
+            "except st.LibraryMissing as e:\n    print(e)\n"
+        )
         env = dict(os.environ, GRANFLOW_BUILD="/nonexistent/build")
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
         self.assertIn("/nonexistent/build/lib/libgranflow_statistics.so", out)
@@ -205,18 +215,29 @@ class LibraryStampTest(unittest.TestCase):
     def test_tables_follow_the_library_stamp(self):
         for table in ("ch4_sweep.h5", "ch4_critical_angle.h5"):
             with self.subTest(table=table), tempfile.TemporaryDirectory() as d:
-                make = ["make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BUILD={d}/build",
-                        f"RUNS={d}/runs", f"FIGURES={d}/figures"]
-                stamps = [f"{d}/build/stamps/{p}.stamp" for p in
-                          ("gf-pack", "gf-shear", "gf-incline", "gf-correlate", "libgranflow_statistics.so")]
+                make = [
+                    "make",
+                    "--no-print-directory",
+                    "-f",
+                    "Makefile.sweeps",
+                    "SIZE=test",
+                    f"BUILD={d}/build",
+                    f"RUNS={d}/runs",
+                    f"FIGURES={d}/figures",
+                ]
+                stamps = [
+                    f"{d}/build/stamps/{p}.stamp"
+                    for p in ("gf-pack", "gf-shear", "gf-incline", "gf-correlate", "libgranflow_statistics.so")
+                ]
                 os.makedirs(f"{d}/build/stamps")
                 os.makedirs(f"{d}/runs")
                 for path in stamps:
                     open(path, "w").close()
                     os.utime(path, (1000, 1000))
                 target = f"{d}/runs/{table}"
-                plan = subprocess.run(make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True,
-                                      check=True).stdout
+                plan = subprocess.run(
+                    make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True, check=True
+                ).stdout
                 # Every simulation's output, in the order made; then the table, newer than the sources.
                 outputs = re.findall(r" -o (\S+)", plan)
                 self.assertEqual(outputs[-1], target, plan)
@@ -228,8 +249,9 @@ class LibraryStampTest(unittest.TestCase):
                 self.assertEqual(subprocess.run(make + ["-q", target], cwd=self.ROOT).returncode, 0)
                 os.utime(stamps[-1], (now, now))  # the library's code changed: its stamp was rewritten
                 self.assertEqual(subprocess.run(make + ["-q", target], cwd=self.ROOT).returncode, 1)
-                plan = subprocess.run(make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True,
-                                      check=True).stdout
+                plan = subprocess.run(
+                    make + ["-n", target], cwd=self.ROOT, capture_output=True, text=True, check=True
+                ).stdout
                 self.assertEqual(re.findall(r" -o (\S+)", plan), [target], plan)
 
 

@@ -71,16 +71,24 @@ class RunTest(unittest.TestCase):
         run = ss.read_run(self.path("c.h5"))
         m, r = run["parameters"]["mean_mass"], run["parameters"]["mean_radius"]
         values, _, samples = ss.steady_values(run, 0.0)
-        expected = {"pressure": 4.0, "shear_stress": 1.2, "temperature": 0.5,
-                    "pressure_static": 3.0, "pressure_kinetic": 1.0, "pressure_collisional": 2.7,
-                    "normal_stress_difference": 0.02,
-                    "pressure_scaled": 4.0 / (rate ** 2 * m), "shear_stress_scaled": 1.2 / (rate ** 2 * m),
-                    "temperature_scaled": 0.5 / (rate ** 2 * r ** 2),
-                    "pressure_static_scaled": 3.0 / (rate ** 2 * m),
-                    "pressure_kinetic_scaled": 1.0 / (rate ** 2 * m),
-                    "pressure_collisional_scaled": 2.7 / (rate ** 2 * m),
-                    "s_over_p": 0.3, "rate_R_over_sqrt_T": rate * r / np.sqrt(0.5),
-                    "mT_over_pR2": m * 0.5 / (4.0 * r ** 2)}
+        expected = {
+            "pressure": 4.0,
+            "shear_stress": 1.2,
+            "temperature": 0.5,
+            "pressure_static": 3.0,
+            "pressure_kinetic": 1.0,
+            "pressure_collisional": 2.7,
+            "normal_stress_difference": 0.02,
+            "pressure_scaled": 4.0 / (rate**2 * m),
+            "shear_stress_scaled": 1.2 / (rate**2 * m),
+            "temperature_scaled": 0.5 / (rate**2 * r**2),
+            "pressure_static_scaled": 3.0 / (rate**2 * m),
+            "pressure_kinetic_scaled": 1.0 / (rate**2 * m),
+            "pressure_collisional_scaled": 2.7 / (rate**2 * m),
+            "s_over_p": 0.3,
+            "rate_R_over_sqrt_T": rate * r / np.sqrt(0.5),
+            "mT_over_pR2": m * 0.5 / (4.0 * r**2),
+        }
         self.assertEqual(set(expected), set(ss.QUANTITIES))
         self.assertEqual(samples, n)
         for name, value in expected.items():
@@ -139,7 +147,7 @@ class RunTest(unittest.TestCase):
         m, r = run["parameters"]["mean_mass"], run["parameters"]["mean_radius"]
         np.testing.assert_allclose(inv["s_over_p"], 0.4)
         np.testing.assert_allclose(inv["rate_R_over_sqrt_T"], 0.5 * r / 2)
-        np.testing.assert_allclose(inv["mT_over_pR2"], m * 4 / (p * r ** 2))
+        np.testing.assert_allclose(inv["mT_over_pR2"], m * 4 / (p * r**2))
 
 
 class TransientTest(unittest.TestCase):
@@ -152,8 +160,7 @@ class TransientTest(unittest.TestCase):
 
     def write(self, name, temperature, pressure, step=1e-3):
         path = os.path.join(self.tmp.name, name)
-        synthetic.write_run(path, pressure - 1, np.ones(len(pressure)), 0.3 * pressure, temperature,
-                            strain_step=step)
+        synthetic.write_run(path, pressure - 1, np.ones(len(pressure)), 0.3 * pressure, temperature, strain_step=step)
         return path
 
     def test_mser_cuts_a_ramp(self):
@@ -178,7 +185,7 @@ class TransientTest(unittest.TestCase):
         self.assertGreaterEqual(start, 3.7)
         self.assertLessEqual(start, 4.5)
         self.assertEqual(ss.steady_start(run, 6.0), 6.0)  # a later --from-strain wins
-        (value, err, _), = [ss.steady_values(run, start)[0]["temperature"]]
+        ((value, err, _),) = [ss.steady_values(run, start)[0]["temperature"]]
         self.assertLess(abs(value - 1), 4 * err)
         self.assertGreater(1 - ss.steady_values(run, 0.5)[0]["temperature"][0], 10 * err)
         self.assertLess(ss.halves_z(run, start), ss.STATIONARY_SIGMAS)
@@ -204,8 +211,11 @@ class TransientTest(unittest.TestCase):
         temp = np.arange(1, n + 1) / n + 0.02 * synthetic.ar1(0.9, n, rng)  # heats up to the end
         path = self.write("drift.h5", temp, 2 + 3 * temp)
         out = os.path.join(self.tmp.name, "drift_table.h5")
-        res = subprocess.run([sys.executable, SCRIPT, "--from-strain", "0.5", "--detect-transient", "-o", out, path],
-                             capture_output=True, text=True)
+        res = subprocess.run(
+            [sys.executable, SCRIPT, "--from-strain", "0.5", "--detect-transient", "-o", out, path],
+            capture_output=True,
+            text=True,
+        )
         self.assertEqual(res.returncode, 0, res.stderr)
         table = ss.read_table(out)
         self.assertLessEqual(table["runs"]["steady_from"][0], 2.51)  # MSER stops at half the run
@@ -223,13 +233,15 @@ class TableTest(unittest.TestCase):
         for nu, e in ((0.8, 0.0), (0.7, 0.5)):
             p = 2 + 0.1 * synthetic.ar1(0.5, 1500, rng)
             path = os.path.join(self.tmp.name, f"shear_nu{nu:.3f}_e{e:.2f}.h5")
-            synthetic.write_run(path, p - 1, np.ones(1500), 0.3 * p, np.full(1500, 0.2),
-                                packing_fraction=nu, restitution=e)
+            synthetic.write_run(
+                path, p - 1, np.ones(1500), 0.3 * p, np.full(1500, 0.2), packing_fraction=nu, restitution=e
+            )
             self.runs.append(path)
 
     def run_cli(self, output, *runs):
-        return subprocess.run([sys.executable, SCRIPT, "--from-strain", "0.5", "-o", output, *runs],
-                              capture_output=True, text=True)
+        return subprocess.run(
+            [sys.executable, SCRIPT, "--from-strain", "0.5", "-o", output, *runs], capture_output=True, text=True
+        )
 
     def test_table_has_one_row_per_run_with_provenance(self):
         out = os.path.join(self.tmp.name, "table.h5")

@@ -111,7 +111,9 @@ def anchors(path, cache={}):
 
 
 def markdown_files(root):
-    files = [os.path.join(root, name) for name in ("README.md", "CHANGELOG.md") if os.path.isfile(os.path.join(root, name))]
+    files = [
+        os.path.join(root, name) for name in ("README.md", "CHANGELOG.md") if os.path.isfile(os.path.join(root, name))
+    ]
     docs = os.path.join(root, "docs")
     for directory, _, names in sorted(os.walk(docs)):
         files += [os.path.join(directory, n) for n in sorted(names) if n.endswith(".md")]
@@ -136,8 +138,10 @@ def check_links(root, path):
             if file_part:
                 resolved = os.path.normpath(os.path.join(os.path.dirname(path), file_part))
                 if not os.path.exists(resolved):
-                    problems.append(f"{rel}:{number}: link '{target}' points nowhere "
-                                    f"({os.path.relpath(resolved, root)} does not exist)")
+                    problems.append(
+                        f"{rel}:{number}: link '{target}' points nowhere "
+                        f"({os.path.relpath(resolved, root)} does not exist)"
+                    )
                     continue
                 if not os.path.realpath(resolved).startswith(os.path.realpath(root) + os.sep):
                     problems.append(f"{rel}:{number}: link '{target}' leaves the repository")
@@ -146,8 +150,10 @@ def check_links(root, path):
                 resolved = path
             if anchor and resolved.endswith(".md") and os.path.isfile(resolved):
                 if anchor not in anchors(resolved):
-                    problems.append(f"{rel}:{number}: link '{target}': {os.path.relpath(resolved, root)} "
-                                    f"has no heading with anchor '#{anchor}'")
+                    problems.append(
+                        f"{rel}:{number}: link '{target}': {os.path.relpath(resolved, root)} "
+                        f"has no heading with anchor '#{anchor}'"
+                    )
     return problems, count
 
 
@@ -157,8 +163,9 @@ def main():
     root, bin_dir = (os.path.abspath(a) for a in sys.argv[1:])
     problems = []
 
-    programs = sorted(n for n in os.listdir(bin_dir)
-                      if n.startswith("gf-") and os.access(os.path.join(bin_dir, n), os.X_OK))
+    programs = sorted(
+        n for n in os.listdir(bin_dir) if n.startswith("gf-") and os.access(os.path.join(bin_dir, n), os.X_OK)
+    )
     if not programs:
         raise SystemExit(f"check_docs.py: no gf-* program in {bin_dir}")
     pages_dir = os.path.join(root, "docs", "programs")
@@ -193,8 +200,10 @@ def main():
 
     for p in problems:
         print(p)
-    summary = (f"{len(programs)} programs, {options_checked} options, {len(files)} markdown files, "
-               f"{links_checked} relative links checked")
+    summary = (
+        f"{len(programs)} programs, {options_checked} options, {len(files)} markdown files, "
+        f"{links_checked} relative links checked"
+    )
     if problems:
         print(f"check_docs.py: FAILED: {len(problems)} problem(s); {summary}")
         return 1

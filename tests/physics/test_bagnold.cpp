@@ -109,8 +109,8 @@ TEST(Bagnold, SteadyStateAveragesAgree) {
   const Material mat{0.5, 0.0, 0.0};
   const int steps = 12000, transient = 500, blocks = 23;  // strain 12, steady from 0.5, 0.5 per block
   const Trace slow = run(packing, 1e-2, mat, steps), fast = run(packing, 1e2, mat, steps);
-  for (const auto& [name, a, b] : {std::tuple("p", &slow.p, &fast.p), std::tuple("s", &slow.s, &fast.s),
-                                   std::tuple("T", &slow.t, &fast.t)}) {
+  for (const auto& [name, a, b] :
+       {std::tuple("p", &slow.p, &fast.p), std::tuple("s", &slow.s, &fast.s), std::tuple("T", &slow.t, &fast.t)}) {
     const Estimate x = block_average(*a, transient, blocks), y = block_average(*b, transient, blocks);
     const double combined = std::hypot(x.error, y.error);
     std::cout << "Bagnold steady " << name << "/rate^2: " << x.mean << " +- " << x.error << " (1e-2) vs " << y.mean

@@ -147,7 +147,8 @@ void compare(const GrainState& s, const Material& mat, double dt) {
     const double pt = it == got.end() ? 0.0 : it->second.second;
     active += ref.impulse(2 * k) > 1e-9 * scale;
     EXPECT_NEAR(pn, ref.impulse(2 * k), 1e-9 * scale) << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
-    EXPECT_NEAR(pt, ref.impulse(2 * k + 1), 1e-9 * scale) << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
+    EXPECT_NEAR(pt, ref.impulse(2 * k + 1), 1e-9 * scale)
+        << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
   }
   EXPECT_GE(active, 2) << "not a multi-contact event";
   const GrainState& a = engine.state();
@@ -227,8 +228,8 @@ TEST(Cluster, TreesAndLoopsSolvedExactly) {
   for (int k = 0; k < 30; ++k) pos.emplace_back(10 + k, 10);
   for (int k = 0; k < 5; ++k) pos.emplace_back(10.5 + k, 10 + std::sqrt(3.0) / 2);
   const double pi = std::acos(-1.0);
-  for (auto [foot, degrees] : {std::pair(10, 60), std::pair(14, 120), std::pair(18, 75), std::pair(22, 100),
-                               std::pair(26, 50)})
+  for (auto [foot, degrees] :
+       {std::pair(10, 60), std::pair(14, 120), std::pair(18, 75), std::pair(22, 100), std::pair(26, 50)})
     for (int h = 1; h <= 4; ++h)  // leaning columns: leaves pushing at angles
       pos.push_back(Vec2(10 + foot, 10) + h * Vec2(std::cos(degrees * pi / 180), std::sin(degrees * pi / 180)));
   pos.emplace_back(9, 10);  // the fixed disk
@@ -252,8 +253,7 @@ TEST(Cluster, TreesAndLoopsSolvedExactly) {
   const StepReport& b = plain.step();
   ASSERT_TRUE(a.converged && b.converged);
   std::cout << "Cluster: " << a.contacts << " contacts; " << a.iterations << " sweeps, " << a.cluster_solves
-            << " cluster solves (largest " << a.largest_cluster << " rows); " << b.iterations
-            << " sweeps without\n";
+            << " cluster solves (largest " << a.largest_cluster << " rows); " << b.iterations << " sweeps without\n";
   EXPECT_GE(a.contacts, 50);
   EXPECT_GE(a.largest_cluster, 50);
   EXPECT_GT(b.iterations, 200);

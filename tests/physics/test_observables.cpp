@@ -34,8 +34,8 @@ TEST(Observables, HandComputedTemperatureAndStress) {
   const StressTensors st = stress(s, box, rate, c);
   Mat2 kinetic, contact, collisional;
   kinetic << 2 * M_PI, -2 * M_PI, -2 * M_PI, 8 * M_PI;  // Σ m ṽṽ
-  contact << 6, 2, 0, 10;                                // Σ σ_α F_β
-  collisional << 4, 0, 0, 2;                             // Σ |σ| F_bc n̂n̂
+  contact << 6, 2, 0, 10;                               // Σ σ_α F_β
+  collisional << 4, 0, 0, 2;                            // Σ |σ| F_bc n̂n̂
   EXPECT_LT((st.kinetic - kinetic / 100).norm(), 1e-15);
   EXPECT_LT((st.contact - contact / 100).norm(), 1e-15);
   EXPECT_LT((st.collisional - collisional / 100).norm(), 1e-15);

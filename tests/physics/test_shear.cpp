@@ -37,7 +37,8 @@ TEST(Shear, CoulombBoundOnEveryContact) {
       sticking += ratio < 0.5 * mat.friction;
     }
   }
-  std::cout << "Coulomb: " << contacts << " contacts, " << sliding << " sliding, " << sticking << " well inside the cone\n";
+  std::cout << "Coulomb: " << contacts << " contacts, " << sliding << " sliding, " << sticking
+            << " well inside the cone\n";
   EXPECT_GT(sliding, 100);
   EXPECT_GT(sticking, 100);
 }

@@ -255,9 +255,9 @@ TEST(Solver, ClusterSolvesCutSweepsNotAccuracy) {
 TEST(Solver, FrictionlessRestartFromFrictionalStateDropsTangentialForces) {
   const Engine frictional = warm_shear(Material{0.5, 0.0, 0.4}, 0.8, {});
   const ContactMemory memory = frictional.memory();
-  ASSERT_GT(std::count_if(memory.tangential_force.begin(), memory.tangential_force.end(),
-                          [](double f) { return f != 0; }),
-            10);
+  ASSERT_GT(
+      std::count_if(memory.tangential_force.begin(), memory.tangential_force.end(), [](double f) { return f != 0; }),
+      10);
   Engine frictionless(frictional.state(), frictional.box(), frictional.rate(), Material{0.5, 0.0, 0.0}, {},
                       frictional.dt());
   frictionless.restore(frictional.step_count(), memory);

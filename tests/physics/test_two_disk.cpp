@@ -166,19 +166,18 @@ TEST_P(ObliqueCollision, MatchesClosedForm) {
 }
 
 // n̂ = (1, 0.3)/|…| points from j to i; velocities chosen so that the pair approaches.
-INSTANTIATE_TEST_SUITE_P(
-    TwoDisk, ObliqueCollision,
-    ::testing::Values(Oblique{0.5, 0.0, Vec2(-1.0, 0.1), Vec2(0.2, 0.0), 0.0, 0.0, "stick"},
-                      Oblique{0.5, 0.0, Vec2(-1.0, 2.5), Vec2(0.2, -1.0), 1.0, 0.0, "slide"},
-                      Oblique{0.1, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "slide"},
-                      Oblique{2.0, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "stick"},
-                      Oblique{0.3, 0.4, Vec2(-1.0, 0.0), Vec2(0.0, 0.0), 0.5, 0.2, "stick"},
-                      Oblique{0.0, 0.0, Vec2(-1.0, 0.7), Vec2(0.3, 0.0), 2.0, 0.0, "none"}),
-    // Named by index and outcome: GoogleTest's default name prints the struct's bytes,
-    // padding and the string's address included, which change from build to build.
-    [](const ::testing::TestParamInfo<Oblique>& param_info) {
-      return std::to_string(param_info.index) + "_" + param_info.param.expect;
-    });
+INSTANTIATE_TEST_SUITE_P(TwoDisk, ObliqueCollision,
+                         ::testing::Values(Oblique{0.5, 0.0, Vec2(-1.0, 0.1), Vec2(0.2, 0.0), 0.0, 0.0, "stick"},
+                                           Oblique{0.5, 0.0, Vec2(-1.0, 2.5), Vec2(0.2, -1.0), 1.0, 0.0, "slide"},
+                                           Oblique{0.1, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "slide"},
+                                           Oblique{2.0, -0.5, Vec2(-1.0, 0.4), Vec2(0.0, 0.0), 0.0, -2.0, "stick"},
+                                           Oblique{0.3, 0.4, Vec2(-1.0, 0.0), Vec2(0.0, 0.0), 0.5, 0.2, "stick"},
+                                           Oblique{0.0, 0.0, Vec2(-1.0, 0.7), Vec2(0.3, 0.0), 2.0, 0.0, "none"}),
+                         // Named by index and outcome: GoogleTest's default name prints the struct's bytes,
+                         // padding and the string's address included, which change from build to build.
+                         [](const ::testing::TestParamInfo<Oblique>& param_info) {
+                           return std::to_string(param_info.index) + "_" + param_info.param.expect;
+                         });
 
 // Rolling without slip at the contact point (u_t = 0): no tangential impulse whatever μ.
 // Fails if the sign of the spin term in u_t is wrong.

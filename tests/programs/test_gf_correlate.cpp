@@ -135,7 +135,9 @@ std::string string_attribute(const std::string& file, const std::string& object,
 }
 
 // One packing shared by the tests of this file.
-const std::string& packing() { return packed_once("correlate_packing", "--grains 150 --packing-fraction 0.78 --seed 2"); }
+const std::string& packing() {
+  return packed_once("correlate_packing", "--grains 150 --packing-fraction 0.78 --seed 2");
+}
 
 }  // namespace
 
@@ -237,8 +239,10 @@ TEST(GfCorrelate, DetectedTransientIsSkipped) {
   EXPECT_GE(frames, 19);
   EXPECT_LE(frames, 21);
   // A transient shorter than --from-strain leaves --from-strain.
-  ASSERT_EQ(run_tool("gf-correlate", run + " -o " + (dir / "late.h5") + " --max-lag 10 --blocks 4 --quiet "
-                                          "--from-strain 3 --detect-transient").exit_code,
+  ASSERT_EQ(run_tool("gf-correlate", run + " -o " + (dir / "late.h5") +
+                                         " --max-lag 10 --blocks 4 --quiet "
+                                         "--from-strain 3 --detect-transient")
+                .exit_code,
             0);
   EXPECT_NEAR(read_doubles(dir / "late.h5", "/runs/first_strain")[0], 3.0, 1e-9);
   // A run without T and p cannot be checked for its transient.
@@ -317,29 +321,29 @@ TEST_P(GfCorrelateBadInput, FailsWithExitTwoOneLineNoOutput) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfCorrelateBadInput,
-    ::testing::Values(
-        BadInput{"no_contacts_stored", "{bare} -o {out}", "no contacts stored"},
-        BadInput{"a_packing", "{pack} -o {out}", "is a packing"},
-        BadInput{"from_strain_past_the_end", "{run} -o {out} --from-strain 5", "past the end of the run"},
-        BadInput{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},
-        BadInput{"missing_file", "{out}.missing -o {out}", "no such file"},
-        BadInput{"no_input", "-o {out}", "missing RUN.h5"},
-        BadInput{"missing_output", "{run}", "--output"},
-        BadInput{"blocks_zero", "{run} -o {out} --blocks 0", "--blocks"},
-        BadInput{"max_lag_beyond_half_box", "{run} -o {out} --max-lag 40", "--max-lag"},
-        BadInput{"bin_width_negative", "{run} -o {out} --bin-width -1", "--bin-width"},
-        BadInput{"angle_bins_two", "{run} -o {out} --angle-bins 2", "--angle-bins"},
-        BadInput{"xi_el_zero", "{run} -o {out} --xi-el 0", "--xi-el"},
-        BadInput{"xi_el_and_reference", "{run} -o {out} --xi-el 1 --reference {run}", "not both"},
-        BadInput{"reference_missing", "{run} -o {out} --reference {out}.ref", "no such file"},
-        BadInput{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
-        BadInput{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
-        BadInput{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
-        BadInput{"abs_bin_width_not_a_multiple", "{run} -o {out} --abs-bin-width 0.33", "--abs-bin-width"},
-        BadInput{"abs_threshold_unknown", "{run} -o {out} --abs-threshold medium", "--abs-threshold"},
-        BadInput{"max_tail_share_above_one", "{run} -o {out} --max-tail-share 1.5", "--max-tail-share"},
-        BadInput{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
-        BadInput{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
+    ::testing::Values(BadInput{"no_contacts_stored", "{bare} -o {out}", "no contacts stored"},
+                      BadInput{"a_packing", "{pack} -o {out}", "is a packing"},
+                      BadInput{"from_strain_past_the_end", "{run} -o {out} --from-strain 5", "past the end of the run"},
+                      BadInput{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},
+                      BadInput{"missing_file", "{out}.missing -o {out}", "no such file"},
+                      BadInput{"no_input", "-o {out}", "missing RUN.h5"},
+                      BadInput{"missing_output", "{run}", "--output"},
+                      BadInput{"blocks_zero", "{run} -o {out} --blocks 0", "--blocks"},
+                      BadInput{"max_lag_beyond_half_box", "{run} -o {out} --max-lag 40", "--max-lag"},
+                      BadInput{"bin_width_negative", "{run} -o {out} --bin-width -1", "--bin-width"},
+                      BadInput{"angle_bins_two", "{run} -o {out} --angle-bins 2", "--angle-bins"},
+                      BadInput{"xi_el_zero", "{run} -o {out} --xi-el 0", "--xi-el"},
+                      BadInput{"xi_el_and_reference", "{run} -o {out} --xi-el 1 --reference {run}", "not both"},
+                      BadInput{"reference_missing", "{run} -o {out} --reference {out}.ref", "no such file"},
+                      BadInput{"reference_empty", "{run} -o {out} --reference ,", "--reference"},
+                      BadInput{"kde_bandwidth_too_wide", "{run} -o {out} --kde-bandwidth 5", "--kde-bandwidth"},
+                      BadInput{"clusters_window_too_long", "{run} -o {out} --clusters-window 11", "--clusters-window"},
+                      BadInput{"abs_bin_width_not_a_multiple", "{run} -o {out} --abs-bin-width 0.33",
+                               "--abs-bin-width"},
+                      BadInput{"abs_threshold_unknown", "{run} -o {out} --abs-threshold medium", "--abs-threshold"},
+                      BadInput{"max_tail_share_above_one", "{run} -o {out} --max-tail-share 1.5", "--max-tail-share"},
+                      BadInput{"from_strain_nan", "{run} -o {out} --from-strain nan", "--from-strain"},
+                      BadInput{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
     bad_input_name);
 
 TEST(GfCorrelateBadInput, NotHdf5AndOutputIsInput) {
@@ -362,10 +366,11 @@ TEST(GfCorrelateUsage, HelpListsEveryOptionWithDefaults) {
   ASSERT_EQ(std::system((tool_path("gf-correlate") + " --help > " + (dir / "help.txt")).c_str()), 0);
   std::ifstream in(dir / "help.txt");
   const std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const char* option : {"--output", "--from-strain", "--bin-width", "--max-lag", "--angle-bins", "--map-bin",
-                             "--blocks", "--reference", "--xi-el", "--threshold", "--force-bin-width", "--force-max",
-                             "--kde-bandwidth", "--bootstrap", "--seed", "--clusters-window", "--clusters-frame",
-                             "--detect-transient", "--quiet", "--version"})
+  for (const char* option :
+       {"--output",          "--from-strain",    "--bin-width",        "--max-lag",   "--angle-bins",
+        "--map-bin",         "--blocks",         "--reference",        "--xi-el",     "--threshold",
+        "--force-bin-width", "--force-max",      "--kde-bandwidth",    "--bootstrap", "--seed",
+        "--clusters-window", "--clusters-frame", "--detect-transient", "--quiet",     "--version"})
     EXPECT_NE(help.find(option), std::string::npos) << option;
   EXPECT_NE(help.find("[default: 0.5]"), std::string::npos);
   EXPECT_NE(help.find("[default: 1.25]"), std::string::npos);

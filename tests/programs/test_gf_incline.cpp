@@ -112,8 +112,10 @@ TEST(GfInclineBranch, NewAngleAndFrictionFromTheLastFrameRecordsTheParent) {
   const std::string parent = dir / "parent.h5", branch = dir / "branch.h5";
   auto r = run_tool("gf-incline", "-i " + packing() + " --steps 1000 " + kRun + " -o " + parent);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_tool("gf-incline", "-i " + parent + " --frame -1 --angle 27 --friction 0.4 --steps 500 --profile-block 500 "
-                             "--frame-every 500 --quiet -o " + branch);
+  r = run_tool("gf-incline", "-i " + parent +
+                                 " --frame -1 --angle 27 --friction 0.4 --steps 500 --profile-block 500 "
+                                 "--frame-every 500 --quiet -o " +
+                                 branch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   io::TrajectoryReader p(parent), b(branch);
   const io::Frame last = p.frame(p.frame_count() - 1), first = b.frame(0);
@@ -198,25 +200,25 @@ TEST_P(GfInclineBadInput, FailsWithExitTwoOneLineNoOutput) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfInclineBadInput,
-    ::testing::Values(BadInput{"angle_missing", "-i {in} -o {out}", "--angle"},
-                      BadInput{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
-                      BadInput{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
-                      BadInput{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},
-                      BadInput{"angle_nan", "-i {in} -o {out} --angle nan", "--angle"},
-                      BadInput{"gravity_zero", "-i {in} -o {out} --angle 12 --gravity 0", "--gravity"},
-                      BadInput{"gravity_negative", "-i {in} -o {out} --angle 12 --gravity -1", "--gravity"},
-                      BadInput{"restitution_above_one", "-i {in} -o {out} --angle 12 --restitution 1.5", "--restitution"},
-                      BadInput{"restitution_negative", "-i {in} -o {out} --angle 12 --restitution -0.1", "--restitution"},
-                      BadInput{"friction_negative", "-i {in} -o {out} --angle 12 --friction -1", "--friction"},
-                      BadInput{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
-                      BadInput{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
-                      BadInput{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
-                      BadInput{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
-                      BadInput{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200",
-                           "--from-time"},
-                      BadInput{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
-                      BadInput{"missing_input_option", "-o {out} --angle 12", "--input"},
-                      BadInput{"missing_input_file", "-i {out}.missing -o {out} --angle 12", "missing"}),
+    ::testing::Values(
+        BadInput{"angle_missing", "-i {in} -o {out}", "--angle"},
+        BadInput{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
+        BadInput{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
+        BadInput{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},
+        BadInput{"angle_nan", "-i {in} -o {out} --angle nan", "--angle"},
+        BadInput{"gravity_zero", "-i {in} -o {out} --angle 12 --gravity 0", "--gravity"},
+        BadInput{"gravity_negative", "-i {in} -o {out} --angle 12 --gravity -1", "--gravity"},
+        BadInput{"restitution_above_one", "-i {in} -o {out} --angle 12 --restitution 1.5", "--restitution"},
+        BadInput{"restitution_negative", "-i {in} -o {out} --angle 12 --restitution -0.1", "--restitution"},
+        BadInput{"friction_negative", "-i {in} -o {out} --angle 12 --friction -1", "--friction"},
+        BadInput{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
+        BadInput{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
+        BadInput{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
+        BadInput{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
+        BadInput{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200", "--from-time"},
+        BadInput{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
+        BadInput{"missing_input_option", "-o {out} --angle 12", "--input"},
+        BadInput{"missing_input_file", "-i {out}.missing -o {out} --angle 12", "missing"}),
     bad_input_name);
 
 TEST(GfInclineBadInput, BadFiles) {

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "programs/run_tool.hpp"
 #include "io/trajectory.hpp"
+#include "programs/run_tool.hpp"
 
 using namespace granflow::testing;
 
@@ -15,20 +15,19 @@ TEST_P(GfPackBadInput, FailsWithExitTwoOneLineNoOutput) { expect_refused("gf-pac
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, GfPackBadInput,
-    ::testing::Values(
-        BadInput{"nu_zero", "--packing-fraction 0 -o {out}", "--packing-fraction"},
-        BadInput{"nu_negative", "--packing-fraction -0.1 -o {out}", "--packing-fraction"},
-        BadInput{"nu_too_high", "--packing-fraction 0.91 -o {out}", "--packing-fraction"},
-        BadInput{"nu_nan", "--packing-fraction nan -o {out}", "--packing-fraction"},
-        BadInput{"one_grain", "--grains 1 -o {out}", "--grains"},
-        BadInput{"grains_not_integer", "--grains 10.5 -o {out}", "--grains"},
-        BadInput{"polydispersity_one", "--polydispersity 1 -o {out}", "--polydispersity"},
-        BadInput{"diameter_zero", "--mean-diameter 0 -o {out}", "--mean-diameter"},
-        BadInput{"unknown_option", "--frobnicate -o {out}", "--frobnicate"},
-        BadInput{"missing_output", "--grains 10", "--output"},
-        BadInput{"output_dir_missing", "--grains 10 -o {out}/nodir/p.h5", "does not exist"},
-        BadInput{"incline_width_zero", "--incline --width 0 -o {out}", "--width"},
-        BadInput{"seed_negative", "--seed -3 -o {out}", "--seed"}),
+    ::testing::Values(BadInput{"nu_zero", "--packing-fraction 0 -o {out}", "--packing-fraction"},
+                      BadInput{"nu_negative", "--packing-fraction -0.1 -o {out}", "--packing-fraction"},
+                      BadInput{"nu_too_high", "--packing-fraction 0.91 -o {out}", "--packing-fraction"},
+                      BadInput{"nu_nan", "--packing-fraction nan -o {out}", "--packing-fraction"},
+                      BadInput{"one_grain", "--grains 1 -o {out}", "--grains"},
+                      BadInput{"grains_not_integer", "--grains 10.5 -o {out}", "--grains"},
+                      BadInput{"polydispersity_one", "--polydispersity 1 -o {out}", "--polydispersity"},
+                      BadInput{"diameter_zero", "--mean-diameter 0 -o {out}", "--mean-diameter"},
+                      BadInput{"unknown_option", "--frobnicate -o {out}", "--frobnicate"},
+                      BadInput{"missing_output", "--grains 10", "--output"},
+                      BadInput{"output_dir_missing", "--grains 10 -o {out}/nodir/p.h5", "does not exist"},
+                      BadInput{"incline_width_zero", "--incline --width 0 -o {out}", "--width"},
+                      BadInput{"seed_negative", "--seed -3 -o {out}", "--seed"}),
     bad_input_name);
 
 TEST(GfPackBadInput, UnwritableDirectory) {

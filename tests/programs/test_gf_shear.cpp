@@ -67,7 +67,8 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
 TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
   ScratchDir dir("shear_resume_other");
   const std::string args = "-i " + packing() + " --steps 20000 " + kRun + " -o " + (dir / "cut.h5");
-  if (interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log", 100, SIGTERM) != 1) GTEST_SKIP() << "the run finished before it could be interrupted";
+  if (interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log", 100, SIGTERM) != 1)
+    GTEST_SKIP() << "the run finished before it could be interrupted";
   auto r = run_tool("gf-shear", args + " --friction 0.1 --resume");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("other options"), std::string::npos) << r.err;
@@ -75,11 +76,10 @@ TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
 
 TEST(GfShearBranch, FromAStoredFrameEqualsTheOriginalRun) {
   ScratchDir dir("shear_branch");
-  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 1500 " + kRun + " -o " + (dir / "ref.h5")).exit_code,
-            0);
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 1500 " + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
   // Frame 5 is step 500; 1000 more steps end where the reference ends.
-  auto r = run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 5 --steps 1000 " + kRun + " -o " +
-                                    (dir / "branch.h5"));
+  auto r =
+      run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 5 --steps 1000 " + kRun + " -o " + (dir / "branch.h5"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   io::TrajectoryReader ref(dir / "ref.h5"), branch(dir / "branch.h5");
   ASSERT_EQ(branch.frame_count(), 11u);
@@ -109,13 +109,16 @@ TEST(GfShearBranch, BagnoldRescalingOnRateChange) {
   // Branching a run at 100× the rate is the same trajectory played 100× faster:
   // positions identical step for step up to round-off, stresses ×10⁴.
   ScratchDir dir("shear_bagnold_branch");
-  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 300 " + kRun + " -o " + (dir / "ref.h5")).exit_code,
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 300 " + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
+  const std::string common =
+      " --steps 100 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --frame-every 100 --quiet";
+  ASSERT_EQ(
+      run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 0.01" + common + " -o " + (dir / "slow.h5"))
+          .exit_code,
+      0);
+  ASSERT_EQ(run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 1" + common + " -o " + (dir / "fast.h5"))
+                .exit_code,
             0);
-  const std::string common = " --steps 100 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --frame-every 100 --quiet";
-  ASSERT_EQ(run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 0.01" + common + " -o " +
-                                     (dir / "slow.h5")).exit_code, 0);
-  ASSERT_EQ(run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate 1" + common + " -o " +
-                                     (dir / "fast.h5")).exit_code, 0);
   io::TrajectoryReader slow(dir / "slow.h5"), fast(dir / "fast.h5");
   auto a = slow.frame(1), b = fast.frame(1);
   double worst = 0;
@@ -146,7 +149,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"threads_zero", "-i {in} -o {out} --threads 0", "--threads"},
                       BadInput{"missing_input_option", "-o {out}", "--input"},
                       BadInput{"missing_input_file", "-i {out}.missing -o {out}", "missing"},
-                      BadInput{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10", "--temperature"},
+                      BadInput{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10",
+                               "--temperature"},
                       BadInput{"frame_out_of_range", "-i {in} -o {out} --frame 4", "--frame"},
                       BadInput{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
     bad_input_name);
@@ -163,8 +167,10 @@ TEST(GfShearBadInput, BadFiles) {
   io::TrajectoryWriter(no_grains).close();
   const std::string incline = dir / "incline.h5";
   ASSERT_EQ(run_tool("gf-pack", "--incline --width 10 --height 5 --quiet -o " + incline).exit_code, 0);
-  for (auto [path, expected] : {std::pair<std::string, std::string>{text, "text.h5"}, {truncated, "truncated.h5"},
-                                {no_grains, "/particles/grains"}, {incline, "gf-incline"}}) {
+  for (auto [path, expected] : {std::pair<std::string, std::string>{text, "text.h5"},
+                                {truncated, "truncated.h5"},
+                                {no_grains, "/particles/grains"},
+                                {incline, "gf-incline"}}) {
     auto r = run_tool("gf-shear", "-i " + path + " -o " + (out_dir / "out.h5"));
     EXPECT_EQ(r.exit_code, 2) << path << ": " << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << r.err;

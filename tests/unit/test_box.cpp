@@ -58,8 +58,10 @@ TEST(LeesEdwardsBox, WrappedImageIsTheSamePoint) {
     Vec2 before = box.minimum_image(a - b);
     Vec2 v(0, 0);
     box.wrap(a, v, 0.0);
-    ASSERT_GE(a.x(), 0); ASSERT_LT(a.x(), box.lx);
-    ASSERT_GE(a.y(), 0); ASSERT_LT(a.y(), box.ly);
+    ASSERT_GE(a.x(), 0);
+    ASSERT_LT(a.x(), box.lx);
+    ASSERT_GE(a.y(), 0);
+    ASSERT_LT(a.y(), box.ly);
     ASSERT_NEAR((box.minimum_image(a - b) - before).norm(), 0, 1e-9);
   }
 }

@@ -21,10 +21,24 @@ std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 // values over many orders of magnitude, both signs.
 std::vector<double> samples() {
   const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> v = {0.0,  -0.0, 1.0,  -1.0, 0.5,  -0.5, 1.5, -1.5, 2.5, -2.5,
-                           std::nextafter(0.5, 0.0), std::nextafter(-0.5, 0.0),
-                           std::numeric_limits<double>::denorm_min(), -std::numeric_limits<double>::denorm_min(),
-                           std::numeric_limits<double>::min(), std::numeric_limits<double>::max(), inf, -inf,
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           1.0,
+                           -1.0,
+                           0.5,
+                           -0.5,
+                           1.5,
+                           -1.5,
+                           2.5,
+                           -2.5,
+                           std::nextafter(0.5, 0.0),
+                           std::nextafter(-0.5, 0.0),
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::min(),
+                           std::numeric_limits<double>::max(),
+                           inf,
+                           -inf,
                            std::numeric_limits<double>::quiet_NaN()};
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> exponent(-300, 300), unit(-1, 1);

@@ -30,8 +30,8 @@ double integrate(const std::function<double(double)>& f, double lo, double hi) {
 // block with W = 1 and, per radial bin and sector, independent Gaussian noise on C̄ such
 // that the mean over the blocks has standard deviation `noise` per radial bin (as from
 // many pairs of random sign: the same noise on Σw and, divided by the bin centre, Σw/ℓ).
-std::vector<PairSums> blocks_of(const LagGrid& grid, const std::function<double(double)>& c, double noise,
-                                int blocks, std::uint64_t seed) {
+std::vector<PairSums> blocks_of(const LagGrid& grid, const std::function<double(double)>& c, double noise, int blocks,
+                                std::uint64_t seed) {
   Rng rng(seed);
   const int nk = grid.angle_bins, nc = grid.coarse_bins();
   std::vector<double> w(grid.radial_bins), w_over_lag(grid.radial_bins);
@@ -125,9 +125,10 @@ TEST(MagnitudeLength, ExponentialIsItsDecayLength) {
     }
     const Stats v = stats(values), e = stats(errors);
     const double bias = v.mean / truncated - 1;
-    std::printf("[ exp, noise 0.4%% of A, %s threshold ] bias %+.2f %% (%+.1f jackknife errors), scatter %.4f, "
-                "mean jackknife error %.4f, within one error %d %%\n",
-                hard ? "hard" : "soft", 100 * bias, (v.mean - truncated) / e.mean, v.sd, e.mean, within);
+    std::printf(
+        "[ exp, noise 0.4%% of A, %s threshold ] bias %+.2f %% (%+.1f jackknife errors), scatter %.4f, "
+        "mean jackknife error %.4f, within one error %d %%\n",
+        hard ? "hard" : "soft", 100 * bias, (v.mean - truncated) / e.mean, v.sd, e.mean, within);
     RecordProperty(hard ? "bias_percent_hard" : "bias_percent_soft", std::to_string(100 * bias));
     if (!hard) {
       EXPECT_NEAR(e.mean / v.sd, 1.0, 0.3);  // the jackknife error is the real scatter
@@ -160,9 +161,10 @@ TEST(MagnitudeLength, BiasWithAHighNoiseFloor) {
     unreduced.push_back(magnitude_length(blocks, grid, raw).xi);
   }
   const Stats v = stats(values), e = stats(errors), u = stats(unreduced);
-  std::printf("[ contact + exp, noise 2%% of A ] bias %+.1f %% (without the noise floor %+.0f %%), scatter %.3f, "
-              "mean jackknife error %.3f\n",
-              100 * (v.mean / 2.4 - 1), 100 * (u.mean / 2.4 - 1), v.sd, e.mean);
+  std::printf(
+      "[ contact + exp, noise 2%% of A ] bias %+.1f %% (without the noise floor %+.0f %%), scatter %.3f, "
+      "mean jackknife error %.3f\n",
+      100 * (v.mean / 2.4 - 1), 100 * (u.mean / 2.4 - 1), v.sd, e.mean);
   EXPECT_GT(u.mean, 1.2 * 2.4);                  // |C̄| alone integrates the ℓ-weighted noise
   EXPECT_LT(std::fabs(v.mean / 2.4 - 1), 0.07);  // the floor removes it, at a small bias
   EXPECT_LT(v.mean, 2.4);                        // which is downward
@@ -181,8 +183,8 @@ TEST(MagnitudeLength, NegativeTailWhereSignedXiDiverges) {
   const double l0 = std::log(a / b) / (1 / x1 - 1 / x2);
   auto abs_c = [&](double l) { return std::fabs(c(l)); };
   auto moment = [&](double l) { return l * std::fabs(c(l)); };
-  const double expected = (integrate(moment, 0, l0) + integrate(moment, l0, 21)) /
-                          (integrate(abs_c, 0, l0) + integrate(abs_c, l0, 21));
+  const double expected =
+      (integrate(moment, 0, l0) + integrate(moment, l0, 21)) / (integrate(abs_c, 0, l0) + integrate(abs_c, l0, 21));
   const MagnitudeLength m = magnitude_length(blocks, grid, MagnitudeSettings{});
   std::printf("[ negative tail ] signed xi = %.4g, xi_abs = %.4f +- %.4f (exact %.4f)\n", signed_xi, m.xi, m.xi_error,
               expected);
@@ -284,7 +286,9 @@ TEST(MagnitudeLength, NoSignalAndPartialCoarseBins) {
   const LagGrid grid = LagGrid::make(0.1, 2.3, 6, 0.5, 5);  // 23 bins: coarse bins of 5, the last of 3
   EXPECT_EQ(grid.coarse_bins(), 5);
   EXPECT_DOUBLE_EQ(grid.coarse_upper(4), 2.3);
-  const MagnitudeLength none = magnitude_length(blocks_of(grid, [](double) { return 0.0; }, 0, 4, 1), grid, {});
+  const MagnitudeLength none = magnitude_length(blocks_of(
+                                                    grid, [](double) { return 0.0; }, 0, 4, 1),
+                                                grid, {});
   EXPECT_TRUE(std::isnan(none.xi));
   EXPECT_FALSE(none.measurable);
   // All of C in the partial last bin [2.0, 2.3): ξ_|C| is its C-weighted mean lag,
@@ -294,4 +298,3 @@ TEST(MagnitudeLength, NoSignalAndPartialCoarseBins) {
   EXPECT_NEAR(last.xi, 2.2, 1e-9);
   EXPECT_THROW(LagGrid::make(0.1, 2.3, 6, 0.5, 0), std::exception);
 }
-

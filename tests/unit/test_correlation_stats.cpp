@@ -71,8 +71,8 @@ TEST(PeakDecision, PeakedAndMonotonicDistributions) {
   EXPECT_EQ(falling.mode, 0);
   EXPECT_DOUBLE_EQ(falling.ratio, 1);
   EXPECT_GE(falling.confidence, 0.95);
-  const PeakDecision flat_top = decide_peak(blocks_of(20, 2000, 5, [](Rng& r) { return std::fabs(r.normal()); }),
-                                            0.1, 10, 200, 1);
+  const PeakDecision flat_top =
+      decide_peak(blocks_of(20, 2000, 5, [](Rng& r) { return std::fabs(r.normal()); }), 0.1, 10, 200, 1);
   EXPECT_EQ(flat_top.peak, 0);
   EXPECT_GE(flat_top.confidence, 0.95);
   // A weak peak at f ≈ 0.4 (X + 0.3Y, X, Y exponential: zero density at 0) from few samples
@@ -92,11 +92,11 @@ TEST(PeakDecision, Degenerate) {
 TEST(Sweep, CrossingInterpolatedWithPropagatedError) {
   const double xi_el = 1.0, xi_el_error = 0.01, c = 1.25;
   std::vector<SweepPoint> points = {
-      {0.60, 0.5, 0, 1.00, 0.02}, {0.70, 0.5, 0, 1.20, 0.02}, {0.80, 0.5, 0, 1.50, 0.03},  // crosses
-      {0.60, 0.9, 0, 1.30, 0.02}, {0.70, 0.9, 0, 1.40, 0.02},                              // all above
-      {0.60, 0.0, 0.4, 1.10, 0.02}, {0.80, 0.0, 0.4, 1.20, 0.02},                          // all below
-      {0.70, 0.2, 0, 1.00, 0.02},                                                          // one ν
-      {0.60, 0.25, 0, 1.40, 0.02}, {0.70, 0.25, 0, 1.10, 0.02},                            // downward
+      {0.60, 0.5, 0, 1.00, 0.02},   {0.70, 0.5, 0, 1.20, 0.02},   {0.80, 0.5, 0, 1.50, 0.03},  // crosses
+      {0.60, 0.9, 0, 1.30, 0.02},   {0.70, 0.9, 0, 1.40, 0.02},                                // all above
+      {0.60, 0.0, 0.4, 1.10, 0.02}, {0.80, 0.0, 0.4, 1.20, 0.02},                              // all below
+      {0.70, 0.2, 0, 1.00, 0.02},                                                              // one ν
+      {0.60, 0.25, 0, 1.40, 0.02},  {0.70, 0.25, 0, 1.10, 0.02},                               // downward
       {0.70, 0.5, 0, 1.20, 0.02},  // a second run at ν = 0.7, e = 0.5: merged
   };
   const std::vector<Crossing> out = binary_collision_crossings(points, xi_el, xi_el_error, c);

@@ -22,9 +22,8 @@ class IoErrorTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("granflow_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-            std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("granflow_io_" + std::string(info->test_suite_name()) + "_" + info->name() +
+                                        "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -44,8 +43,7 @@ class IoErrorTest : public ::testing::Test {
     f.velocity.assign(n, Vec2(0.5, -0.5));
     f.orientation.assign(n, 0.1);
     f.angular_velocity.assign(n, 0.2);
-    writer.write_grains({std::vector<double>(n, 0.7), std::vector<double>(n, 1.5),
-                         std::vector<std::uint8_t>(n, 0)},
+    writer.write_grains({std::vector<double>(n, 0.7), std::vector<double>(n, 1.5), std::vector<std::uint8_t>(n, 0)},
                         f.box);
     for (int k = 0; k < frames; ++k) {
       f.step = k;
@@ -180,8 +178,7 @@ TEST_F(IoWriterErrors, MisuseIsARuntimeFailure) {
   expect_error<RuntimeFailure>([&] { writer.append_frame(f); }, path, "before write_grains");
   GrainProperties grains{{0.5, 0.5}, {1, 1}, {0, 0}};
   expect_error<RuntimeFailure>([&] { writer.write_grains({{}, {}, {}}, f.box); }, path, "at least one grain");
-  expect_error<RuntimeFailure>([&] { writer.write_grains({{0.5, 0.5}, {1}, {0, 0}}, f.box); }, path,
-                               "different sizes");
+  expect_error<RuntimeFailure>([&] { writer.write_grains({{0.5, 0.5}, {1}, {0, 0}}, f.box); }, path, "different sizes");
   writer.write_grains(grains, f.box);
   expect_error<RuntimeFailure>([&] { writer.write_grains(grains, f.box); }, path, "grains written twice");
 

@@ -30,9 +30,8 @@ class IoTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("granflow_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-            std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("granflow_io_" + std::string(info->test_suite_name()) + "_" + info->name() +
+                                        "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -60,8 +59,8 @@ GrainProperties make_grains(std::size_t n, std::uint64_t seed) {
   return g;
 }
 
-Frame make_frame(std::size_t n, std::int64_t step, std::size_t contacts, bool periodic_y,
-                 std::uint64_t seed, bool has_contacts = true) {
+Frame make_frame(std::size_t n, std::int64_t step, std::size_t contacts, bool periodic_y, std::uint64_t seed,
+                 bool has_contacts = true) {
   Rng rng(seed);
   Frame f;
   f.step = step;
@@ -294,8 +293,7 @@ TEST_F(IoLayout, LeesEdwardsOffsetInEdges) {
   EXPECT_EQ(raw_shape(f.id, "/particles/grains/box/edges/value"), (std::vector<hsize_t>{2, 2, 2}));
   EXPECT_EQ(raw_read<double>(f.id, "/particles/grains/box/edges/value", H5T_NATIVE_DOUBLE),
             (std::vector<double>{20.5, 0, 0.0, 17.25, 20.5, 0, 3.75, 17.25}));
-  EXPECT_EQ(raw_read<double>(f.id, "/lees_edwards/offset/value", H5T_NATIVE_DOUBLE),
-            (std::vector<double>{0.0, 3.75}));
+  EXPECT_EQ(raw_read<double>(f.id, "/lees_edwards/offset/value", H5T_NATIVE_DOUBLE), (std::vector<double>{0.0, 3.75}));
   EXPECT_EQ(raw_read<std::int64_t>(f.id, "/lees_edwards/offset/step", H5T_NATIVE_INT64),
             (std::vector<std::int64_t>{0, 7}));
   hid_t le = H5Gopen2(f.id, "/lees_edwards", H5P_DEFAULT);
@@ -406,8 +404,7 @@ TEST_F(IoLayout, ReadableByH5dump) {
   Parameters p;
   p.set("seed", 7);
   write_packing(path, f, make_grains(3, 1), p);
-  ASSERT_EQ(std::system(("h5dump -H '" + path + "' > '" + out + "' 2>&1").c_str()), 0)
-      << file_bytes(out);
+  ASSERT_EQ(std::system(("h5dump -H '" + path + "' > '" + out + "' 2>&1").c_str()), 0) << file_bytes(out);
   std::string header = file_bytes(out);
   EXPECT_NE(header.find("GROUP \"particles\""), std::string::npos);
   EXPECT_NE(header.find("DATASET \"value\""), std::string::npos);
@@ -494,10 +491,8 @@ TEST_F(IoParameters, ErrorsNameTheFile) {
   p.set("program", "gf-shear");
   write_packing(path, make_frame(2, 0, 0, true, 1), make_grains(2, 1), p);
   Parameters q = TrajectoryReader(path).parameters();
-  for (auto get : std::vector<std::function<void()>>{[&] { q.get_double("friction"); },
-                                                     [&] { q.get_int("rate"); },
-                                                     [&] { q.get_string("rate"); },
-                                                     [&] { q.get_double("program"); }}) {
+  for (auto get : std::vector<std::function<void()>>{[&] { q.get_double("friction"); }, [&] { q.get_int("rate"); },
+                                                     [&] { q.get_string("rate"); }, [&] { q.get_double("program"); }}) {
     try {
       get();
       ADD_FAILURE() << "no UsageError";

@@ -36,9 +36,8 @@ TEST(Jackknife, MeanOfIndependentBlocks) {
   for (double m : means) var += (m - mean) * (m - mean) / 15;
   const auto error = jackknife_errors(blocks, [](const Sums& s) { return std::vector<double>{s.sum / s.count}; });
   EXPECT_NEAR(error[0], std::sqrt(var / 16), 1e-12);
-  EXPECT_TRUE(std::isnan(jackknife_errors(std::vector<Sums>(1, blocks[0]), [](const Sums& s) {
-                return std::vector<double>{s.sum};
-              })[0]));
+  EXPECT_TRUE(std::isnan(
+      jackknife_errors(std::vector<Sums>(1, blocks[0]), [](const Sums& s) { return std::vector<double>{s.sum}; })[0]));
 }
 
 }  // namespace

@@ -188,9 +188,13 @@ TEST(RunSignature, HoldsTheOptionsThatChangeTheTrajectory) {
   // A default given explicitly is the same run.
   EXPECT_EQ(run_signature(run_cli("a.h5", {"--friction", "0"})), base);
   EXPECT_EQ(run_signature(run_cli("a.h5", {"--threads", "2", "--checkpoint-every", "5", "--resume"})), base);
-  for (const std::vector<std::string>& changed :
-       {std::vector<std::string>{"--friction", "0.1"}, {"--restitution", "0.9"}, {"--steps", "61"},
-        {"--tolerance", "1e-9"}, {"--alert-distance", "0.05"}, {"--frame-every", "3"}, {"--observe-every", "2"}}) {
+  for (const std::vector<std::string>& changed : {std::vector<std::string>{"--friction", "0.1"},
+                                                  {"--restitution", "0.9"},
+                                                  {"--steps", "61"},
+                                                  {"--tolerance", "1e-9"},
+                                                  {"--alert-distance", "0.05"},
+                                                  {"--frame-every", "3"},
+                                                  {"--observe-every", "2"}}) {
     SCOPED_TRACE(changed[0]);
     EXPECT_NE(run_signature(run_cli("a.h5", changed)), base);
   }
