@@ -19,10 +19,12 @@
 #include "core/random.hpp"
 #include "core/version.hpp"
 #include "io/trajectory.hpp"
+#include "unit/expect_frame.hpp"
 
 namespace fs = std::filesystem;
 using namespace granflow;
 using namespace granflow::io;
+using granflow::test_support::expect_same_frame;
 
 namespace {
 
@@ -87,28 +89,6 @@ Frame make_frame(std::size_t n, std::int64_t step, std::size_t contacts, bool pe
     k.age.push_back(std::int64_t(rng.bits() % 1000));
   }
   return f;
-}
-
-void expect_same_frame(const Frame& read, const Frame& written) {
-  EXPECT_EQ(read.step, written.step);
-  EXPECT_EQ(read.time, written.time);
-  EXPECT_EQ(read.box.lx, written.box.lx);
-  EXPECT_EQ(read.box.ly, written.box.ly);
-  EXPECT_EQ(read.box.offset, written.box.offset);
-  EXPECT_EQ(read.box.periodic_y, written.box.periodic_y);
-  EXPECT_EQ(read.position, written.position);
-  EXPECT_EQ(read.velocity, written.velocity);
-  EXPECT_EQ(read.orientation, written.orientation);
-  EXPECT_EQ(read.angular_velocity, written.angular_velocity);
-  const ContactRecords &a = read.contacts, &b = written.has_contacts ? written.contacts : ContactRecords{};
-  EXPECT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.pair, b.pair);
-  EXPECT_EQ(a.normal_force, b.normal_force);
-  EXPECT_EQ(a.tangential_force, b.tangential_force);
-  EXPECT_EQ(a.branch, b.branch);
-  EXPECT_EQ(a.binary_force, b.binary_force);
-  EXPECT_EQ(a.pre_normal_velocity, b.pre_normal_velocity);
-  EXPECT_EQ(a.age, b.age);
 }
 
 // ---- raw HDF5 access, to check the layout independently of the reader ----

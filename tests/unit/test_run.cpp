@@ -22,6 +22,7 @@
 #include "run/driver.hpp"
 #include "run/frames.hpp"
 #include "run/runner.hpp"
+#include "unit/expect_frame.hpp"
 
 namespace granflow {
 namespace {
@@ -70,26 +71,8 @@ CommandLine run_cli(const std::string& output, std::vector<std::string> args) {
   return cli;
 }
 
-void expect_same_grains(const io::Frame& a, const io::Frame& b) {
-  EXPECT_EQ(a.position, b.position);
-  EXPECT_EQ(a.velocity, b.velocity);
-  EXPECT_EQ(a.orientation, b.orientation);
-  EXPECT_EQ(a.angular_velocity, b.angular_velocity);
-  EXPECT_EQ(a.box.lx, b.box.lx);
-  EXPECT_EQ(a.box.ly, b.box.ly);
-  EXPECT_EQ(a.box.periodic_y, b.box.periodic_y);
-  EXPECT_EQ(a.box.offset, b.box.offset);
-}
-
-void expect_same_contacts(const ContactRecords& a, const ContactRecords& b) {
-  EXPECT_EQ(a.pair, b.pair);
-  EXPECT_EQ(a.normal_force, b.normal_force);
-  EXPECT_EQ(a.tangential_force, b.tangential_force);
-  EXPECT_EQ(a.branch, b.branch);
-  EXPECT_EQ(a.binary_force, b.binary_force);
-  EXPECT_EQ(a.pre_normal_velocity, b.pre_normal_velocity);
-  EXPECT_EQ(a.age, b.age);
-}
+using test_support::expect_same_contacts;
+using test_support::expect_same_grains;
 
 TEST(RunCheckpoint, PathIsAHiddenFileBesideTheOutput) {
   EXPECT_EQ(checkpoint_path("runs/a/shear.h5"), "runs/a/.shear.h5.checkpoint");
