@@ -12,6 +12,22 @@ import h5py
 import numpy as np
 
 
+def scratch_make(d, *flags):
+    """The command line of Makefile.sweeps at SIZE=test with its build, runs and figures in the
+    scratch directory d (run it from the repository's root); flags go before the size (-n, -q)."""
+    return [
+        "make",
+        *flags,
+        "--no-print-directory",
+        "-f",
+        "Makefile.sweeps",
+        "SIZE=test",
+        f"BUILD={d}/build",
+        f"RUNS={d}/runs",
+        f"FIGURES={d}/figures",
+    ]
+
+
 def ar1(phi, n, rng, burn=2000):
     """Stationary AR(1) series x_t = phi x_{t-1} + eps_t with unit-variance eps."""
     eps = rng.normal(size=n + burn)

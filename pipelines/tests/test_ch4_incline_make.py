@@ -10,6 +10,7 @@ import tempfile
 import unittest
 
 from granflow_py.hdf5 import text
+from synthetic import scratch_make
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
@@ -22,17 +23,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
             for prog in ("gf-pack", "gf-shear", "gf-incline", "libgranflow_statistics.so"):
                 with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
                     fh.write("0\n")
-            args = [
-                "make",
-                "-n",
-                "--no-print-directory",
-                "-f",
-                "Makefile.sweeps",
-                "SIZE=test",
-                f"BUILD={d}/build",
-                f"RUNS={d}/runs",
-                f"FIGURES={d}/figures",
-            ]
+            args = scratch_make(d, "-n")
             args += [f"{k}={v}" for k, v in variables.items()] + [t.replace("TMP", d) for t in targets]
             res = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
             self.assertEqual(res.returncode, 0, res.stderr)
@@ -104,17 +95,7 @@ class Ch4InclineMakeTest(unittest.TestCase):
         # With every file present and up to date, a newer parent makes the branch (and only the
         # runs depending on it) out of date.
         with tempfile.TemporaryDirectory() as d:
-            args = [
-                "make",
-                "-q",
-                "--no-print-directory",
-                "-f",
-                "Makefile.sweeps",
-                "SIZE=test",
-                f"BUILD={d}/build",
-                f"RUNS={d}/runs",
-                f"FIGURES={d}/figures",
-            ]
+            args = scratch_make(d, "-q")
             os.makedirs(f"{d}/build/stamps")
             os.makedirs(f"{d}/runs")
             files = [

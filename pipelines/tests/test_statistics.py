@@ -16,6 +16,7 @@ import unittest
 import numpy as np
 
 from granflow_py import statistics as st
+from synthetic import scratch_make
 
 MIN_SAMPLES = 32
 MIN_BLOCKS = 16
@@ -215,16 +216,7 @@ class LibraryStampTest(unittest.TestCase):
     def test_tables_follow_the_library_stamp(self):
         for table in ("ch4_sweep.h5", "ch4_critical_angle.h5"):
             with self.subTest(table=table), tempfile.TemporaryDirectory() as d:
-                make = [
-                    "make",
-                    "--no-print-directory",
-                    "-f",
-                    "Makefile.sweeps",
-                    "SIZE=test",
-                    f"BUILD={d}/build",
-                    f"RUNS={d}/runs",
-                    f"FIGURES={d}/figures",
-                ]
+                make = scratch_make(d)
                 stamps = [
                     f"{d}/build/stamps/{p}.stamp"
                     for p in ("gf-pack", "gf-shear", "gf-incline", "gf-correlate", "libgranflow_statistics.so")
