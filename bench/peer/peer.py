@@ -312,6 +312,17 @@ def _fit_table(files, nus, with_extra):
     print()
 
 
+def wall_seconds(path, run):
+    """The wall time of the gf-shear process that wrote `path`: the first field of the
+    `/usr/bin/time -f "%e %U %S"` file beside it (run.sh writes NAME.time), or else the
+    /run/wall_seconds of granflow versions that stored one (the tables of README.md)."""
+    try:
+        with open(path[: -len(".h5")] + ".time") as fh:
+            return float(fh.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        return float(run.get("wall_seconds", float("nan")))
+
+
 def cmd_report(a):
     import glob
 
@@ -409,6 +420,7 @@ def cmd_report(a):
                     continue
                 with h5py.File(f, "r") as h:
                     run = dict(h["run"].attrs)
+                run["wall_seconds"] = wall_seconds(f, run)
                 stats[(float(m.group(2)), float(m.group(3)))] = (m.group(2), m.group(3), st, run)
             if not stats:
                 continue

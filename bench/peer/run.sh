@@ -106,9 +106,10 @@ run_gf() {
     rm -f "$out"
     /usr/bin/time -f "%e %U %S" -o "$OUT/gf_time.txt" \
       "$GF_SHEAR" -i "$pack" -o "$out" --strain "$STRAIN" --restitution "$RESTITUTION" --quiet
+    # The process's wall time, as for LAMMPS: output files hold no timings (same command,
+    # same bytes).
     read -r wall user sys <"$OUT/gf_time.txt"
-    local ws; ws=$($PY -c "import h5py,sys; print(h5py.File(sys.argv[1],'r')['run'].attrs['wall_seconds'])" "$out")
-    timing_row gf-shear "$nu" "$r" "$ws" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" "$(date -Is)" "$GF_HASH $VERSION"
+    timing_row gf-shear "$nu" "$r" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" "$(date -Is)" "$GF_HASH $VERSION"
   done
 }
 
@@ -136,7 +137,8 @@ convergence() {
         out="$OUT/conv/nu${nu}_ds${ds}_tol${tol}.h5"
         if [ -s "$out" ] && [ "${CONV_RERUN:-0}" != 1 ]; then continue; fi
         log "convergence ν=$nu --strain-step $ds --tolerance $tol"
-        "$GF_SHEAR" -i "$pack" -o "$out" --strain "$CONV_STRAIN" --restitution "$RESTITUTION" \
+        /usr/bin/time -f "%e %U %S" -o "${out%.h5}.time" \
+          "$GF_SHEAR" -i "$pack" -o "$out" --strain "$CONV_STRAIN" --restitution "$RESTITUTION" \
           --strain-step "$ds" --tolerance "$tol" --frame-every 1000000 --quiet
       done
     done

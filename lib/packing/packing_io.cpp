@@ -26,7 +26,6 @@ void write_packing(const std::string& path, const Packing& packing, const io::Pa
   writer.append_observable("packing_fraction", 0, 0.0, packing.packing_fraction);
   writer.append_observable("max_overlap", 0, 0.0, packing.max_overlap);
   writer.append_observable("minimiser_iterations", 0, 0.0, double(packing.iterations));
-  writer.append_observable("wall_seconds", 0, 0.0, packing.seconds);
   writer.close();
 }
 

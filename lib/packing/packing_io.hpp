@@ -1,7 +1,8 @@
 #pragma once
 // Packings on disk: a one-frame H5MD trajectory (docs/file-format.md, Trajectory files) whose grains are at rest,
 // with the packing's own results as one-row observables at step 0:
-// packing_fraction, max_overlap (absolute length), minimiser_iterations, wall_seconds.
+// packing_fraction, max_overlap (absolute length), minimiser_iterations (no wall time: the
+// same command must write the same bytes; gf-pack reports its time on stderr).
 #include <string>
 
 #include "io/trajectory.hpp"

@@ -83,10 +83,6 @@ void write_run_summary(io::TrajectoryWriter& writer, const Engine& engine, const
   const std::int64_t steps = engine.step_count();
   s.set("steps", steps);
   s.set("frames", stats.frames_written);
-  s.set("wall_seconds", stats.wall_seconds);
-  s.set("steps_per_second", stats.wall_seconds > 0 ? double(steps) / stats.wall_seconds : 0.0);
-  s.set("contact_updates_per_second",
-        stats.wall_seconds > 0 ? double(stats.contact_updates) / stats.wall_seconds : 0.0);
   s.set("mean_iterations", steps > 0 ? double(stats.iterations) / double(steps) : 0.0);
   s.set("unconverged_steps", stats.unconverged_steps);
   s.set("max_residual", stats.max_residual);

@@ -37,8 +37,10 @@ using Observer = std::function<void(const Engine&, io::TrajectoryWriter&)>;
 RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& plan, RunStats stats,
                    const Observer& observe);
 
-// The run's statistics as the /run group of a trajectory (steps, wall time, speed,
-// unconverged steps, mean iterations): the summary a user checks first.
+// The run's statistics as the /run group of a trajectory (steps, frames, mean iterations,
+// unconverged steps, largest residual): the summary a user checks first. Only what the
+// run computed, nothing of the invocation (no wall time or speed: those go to stderr),
+// so that the same command writes the same bytes.
 void write_run_summary(io::TrajectoryWriter& writer, const Engine& engine, const RunStats& stats);
 
 }  // namespace granflow

@@ -159,7 +159,7 @@ def write_packing(path, packing_fraction=0.8, grains=16, seed=1):
         )
         f.create_dataset("particles/grains/radius", data=np.full(grains, 0.7))
         obs = f.create_group("observables")
-        for name, value in (("packing_fraction", packing_fraction), ("max_overlap", 1e-10), ("wall_seconds", 0.1)):
+        for name, value in (("packing_fraction", packing_fraction), ("max_overlap", 1e-10), ("minimiser_iterations", 100)):
             _element(obs, name, np.array([value]), [0], [0.0])
     return path
 
