@@ -36,6 +36,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     write_checkpoint(plan.checkpoint_path, engine, stats, plan.signature, plan.checkpoint_extra);
   };
   char status[128];
+  const double unconverged_limit = plan.max_unconverged * double(plan.total_steps);
   while (engine.step_count() < plan.total_steps) {
     const StepReport& r = engine.step();
     stats.iterations += r.iterations;
@@ -43,6 +44,17 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     stats.max_residual = std::max(stats.max_residual, r.residual);
     if (!r.converged) ++stats.unconverged_steps;
     const std::int64_t n = engine.step_count();
+    // Checked after every step, not only after unconverged ones: a resume with a lower
+    // limit stops at its first step when the count so far already exceeds it.
+    if (double(stats.unconverged_steps) > unconverged_limit) {
+      char what[256];
+      std::snprintf(what, sizeof what,
+                    "%lld of %lld steps did not converge by step %lld (largest residual %.2e), more than "
+                    "--max-unconverged %g allows; raise --max-iterations or --max-unconverged",
+                    (long long)stats.unconverged_steps, (long long)plan.total_steps, (long long)n, stats.max_residual,
+                    plan.max_unconverged);
+      throw RuntimeFailure(what);
+    }
     if (plan.after_step) plan.after_step(engine);
     if (n % plan.observe_every == 0) {
       record_solver(engine, writer);

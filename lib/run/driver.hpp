@@ -19,7 +19,10 @@ struct RunPlan {
   double checkpoint_seconds = 600;  // wall time between checkpoints; 0: only on a signal
   std::string checkpoint_path;      // where checkpoints go
   std::string signature;            // stored in checkpoints (what a resume must match)
-  double strain_per_step = 0;       // for the progress line (γ̇·dt); 0 shows time instead
+  // Largest share of total_steps that may end unconverged (at the sweep cap): one more
+  // and the run stops (RuntimeFailure), since it could no longer end within the limit.
+  double max_unconverged = 1;
+  double strain_per_step = 0;  // for the progress line (γ̇·dt); 0 shows time instead
   bool quiet = false;
   // Called after every step, before anything is recorded (gf-incline: checks that no
   // grain left the layer, samples the profiles); throws to abort the run. Optional.
@@ -33,7 +36,9 @@ struct RunPlan {
 using Observer = std::function<void(const Engine&, io::TrajectoryWriter&)>;
 
 // Runs until plan.total_steps. Throws Interrupted (with a message saying how to
-// resume) after writing a checkpoint when a signal arrives. Returns the updated stats.
+// resume) after writing a checkpoint when a signal arrives, and RuntimeFailure as soon as
+// more than plan.max_unconverged × plan.total_steps steps (of all sessions of a resumed
+// run) did not converge. Returns the updated stats.
 RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& plan, RunStats stats,
                    const Observer& observe);
 

@@ -14,9 +14,16 @@ namespace granflow {
 void add_contact_options(CommandLine& cli) {
   cli.option("restitution", 0, "E", "normal restitution e in [0, 1]", "0.5");
   cli.option("tangential-restitution", 0, "ET", "tangential restitution e_t in [-1, 1] (eq. 4.1)", "0");
-  cli.option("friction", 0, "MU", "Coulomb friction coefficient μ ≥ 0", "0");
+  cli.option("friction", 0, "MU",
+             "Coulomb friction coefficient μ ≥ 0; the solver is validated for μ ≤ 0.4 (tests and sweeps): much "
+             "higher μ at high density may not converge (see --max-unconverged)",
+             "0");
   cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
   cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
+  cli.option("max-unconverged", 0, "F",
+             "largest share of the steps that may end unconverged (at --max-iterations); one more stops the run "
+             "with exit code 1 and no output",
+             "0.01");
   cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
   cli.option("threads", 0, "N",
              "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
@@ -58,7 +65,8 @@ std::string run_signature(const CommandLine& cli) {
   std::string s;
   for (const auto& [name, value] : cli.values())
     // Options that cannot change the trajectory may differ on --resume.
-    if (name != "resume" && name != "checkpoint-every" && name != "threads") s += name + "=" + value + ";";
+    if (name != "resume" && name != "checkpoint-every" && name != "threads" && name != "max-unconverged")
+      s += name + "=" + value + ";";
   return s;
 }
 
@@ -69,7 +77,10 @@ RunPlan run_plan(const CommandLine& cli) {
   if (frame_every < 0) throw UsageError("option --frame-every: must be >= 0");
   const double checkpoint_every = cli.real("checkpoint-every");
   require_in_range("checkpoint-every", checkpoint_every, 0, INFINITY, false, true);
+  const double max_unconverged = cli.real("max-unconverged");
+  require_in_range("max-unconverged", max_unconverged, 0, 1, false, false);
   RunPlan plan;
+  plan.max_unconverged = max_unconverged;
   plan.frame_every = frame_every;
   plan.observe_every = observe_every;
   plan.checkpoint_seconds = checkpoint_every;

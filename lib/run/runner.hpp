@@ -20,7 +20,7 @@
 namespace granflow {
 
 // --restitution, --tangential-restitution, --friction, --tolerance, --max-iterations,
-// --alert-distance, --threads.
+// --max-unconverged, --alert-distance, --threads.
 void add_contact_options(CommandLine& cli);
 // The values of those options, validated (UsageError naming the option).
 Material material_option(const CommandLine& cli);
@@ -30,7 +30,8 @@ SolverSettings solver_option(const CommandLine& cli);
 void add_run_options(CommandLine& cli, const std::string& observe_every);
 
 // The options that define the run (all but the ones about this invocation: --resume,
-// --checkpoint-every, --threads): a resumed run must be given the same.
+// --checkpoint-every, --threads, and --max-unconverged, which can stop a run but not change
+// its steps): a resumed run must be given the same.
 std::string run_signature(const CommandLine& cli);
 
 // The time loop's plan from the run options (validated): observables, frames,

@@ -1,0 +1,125 @@
+// Runs whose steps do not converge are not results: beyond --max-unconverged (a fraction
+// of the run's steps) gf-shear and gf-incline stop with exit code 1 and leave no output,
+// partial file or checkpoint; within it they finish (exit 0) with a warning.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <string>
+
+#include "io/trajectory.hpp"
+#include "programs/run_tool.hpp"
+
+using namespace granflow::testing;
+namespace io = granflow::io;
+
+namespace {
+
+const std::string& dense() { return packed_once("unconverged_dense", "--grains 100 --packing-fraction 0.8 --seed 4"); }
+const std::string& medium() {
+  return packed_once("unconverged_medium", "--grains 100 --packing-fraction 0.7 --seed 4");
+}
+
+void expect_stopped(const ToolResult& r, const ScratchDir& dir) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("did not converge"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("raise --max-iterations or --max-unconverged"), std::string::npos) << r.err;
+  EXPECT_EQ(dir.entries(), 0) << "output, partial file or checkpoint left behind";
+}
+
+}  // namespace
+
+// μ = 10 on a dense packing: (nearly) no step converges within the sweep cap.
+TEST(Unconverged, HighFrictionShearStopsWithExitOneAndLeavesNothing) {
+  ScratchDir dir("unconverged_mu10");
+  auto r =
+      run_tool("gf-shear", "-i " + dense() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 100 --friction 10 -q");
+  expect_stopped(r, dir);
+}
+
+TEST(Unconverged, OrdinaryRunFinishesWithExitZero) {
+  ScratchDir dir("unconverged_ordinary");
+  auto r = run_tool("gf-shear", "-i " + medium() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 200 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(io::TrajectoryReader(dir / "run.h5").attributes("/run").get_int("unconverged_steps"), 0);
+}
+
+// One sweep per step leaves a known share U/N of the steps unconverged (measured with
+// --max-unconverged 1, which never stops); a limit just above U/N lets the run finish with
+// the same count, one just below stops it.
+TEST(Unconverged, TheLimitIsAFractionOfTheRunsSteps) {
+  ScratchDir dir("unconverged_limit");
+  const std::string args = "-i " + medium() + " --rate 0.01 --steps 200 --max-iterations 1 -q";
+  auto all = run_tool("gf-shear", args + " -o " + (dir / "all.h5") + " --max-unconverged 1");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  const io::Parameters run = io::TrajectoryReader(dir / "all.h5").attributes("/run");
+  const std::int64_t unconverged = run.get_int("unconverged_steps"), steps = run.get_int("steps");
+  ASSERT_EQ(steps, 200);
+  ASSERT_GT(unconverged, 1);
+  ASSERT_LT(unconverged, steps);
+  EXPECT_NE(all.err.find("warning: " + std::to_string(unconverged) + " of 200 steps did not converge"),
+            std::string::npos)
+      << all.err;
+  std::filesystem::remove(dir / "all.h5");
+
+  const double share = double(unconverged) / double(steps);
+  auto inside = run_tool("gf-shear", args + " -o " + (dir / "inside.h5") + " --max-unconverged " +
+                                         std::to_string(share + 0.5 / double(steps)));
+  ASSERT_EQ(inside.exit_code, 0) << inside.err;
+  EXPECT_EQ(io::TrajectoryReader(dir / "inside.h5").attributes("/run").get_int("unconverged_steps"), unconverged);
+  std::filesystem::remove(dir / "inside.h5");
+
+  auto outside = run_tool("gf-shear", args + " -o " + (dir / "outside.h5") + " --max-unconverged " +
+                                          std::to_string(share - 0.5 / double(steps)));
+  expect_stopped(outside, dir);
+  EXPECT_NE(outside.err.find(std::to_string(unconverged) + " of 200 steps"), std::string::npos) << outside.err;
+}
+
+TEST(Unconverged, InclineStopsBeyondTheLimitToo) {
+  ScratchDir dir("unconverged_incline");
+  const std::string& pack = packed_once("unconverged_incline_pack", "--incline --width 10 --height 5 --seed 3");
+  auto r = run_tool("gf-incline", "-i " + pack + " -o " + (dir / "run.h5") +
+                                      " --angle 20 --steps 3000 --profile-block 500 --max-iterations 1 "
+                                      "--max-unconverged 0 -q");
+  expect_stopped(r, dir);
+}
+
+TEST(Unconverged, TheLimitIsCheckedAndNotPartOfTheResumeSignature) {
+  ScratchDir dir("unconverged_resume");
+  const std::string args = "-i " + medium() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 5000 -q";
+  if (interrupted_run("gf-shear", args, dir / "run.h5", dir / "log", 100, SIGTERM) != 1)
+    GTEST_SKIP() << "the run finished before it could be interrupted";
+  std::filesystem::remove(dir / "log");
+  // Like --threads, the limit cannot change the steps computed, so a resume may change it.
+  auto r = run_tool("gf-shear", args + " --resume --max-unconverged 0.5");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "run.h5"));
+}
+
+TEST(Unconverged, BadLimitsAreRefused) {
+  for (const char* bad : {"-0.1", "1.5", "nan", "x"}) {
+    ScratchDir dir("unconverged_bad");
+    auto r =
+        run_tool("gf-shear", "-i " + medium() + " -o " + (dir / "run.h5") + " --steps 10 --max-unconverged " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--max-unconverged"), std::string::npos) << r.err;
+    EXPECT_EQ(dir.entries(), 0) << bad;
+  }
+}
+
+// The count of a resumed run includes the steps before the interruption: a resume whose
+// limit the count already exceeds stops at once, and removes the checkpoint and the
+// partial output of the interrupted session too.
+TEST(Unconverged, AResumeCountsTheStepsBeforeTheInterruption) {
+  ScratchDir dir("unconverged_resume_count");
+  const std::string args =
+      "-i " + medium() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 5000 --max-iterations 1 -q";
+  if (interrupted_run("gf-shear", args + " --max-unconverged 1", dir / "run.h5", dir / "log", 100, SIGTERM) != 1)
+    GTEST_SKIP() << "the run finished before it could be interrupted";
+  std::filesystem::remove(dir / "log");
+  ASSERT_TRUE(std::filesystem::exists(dir / ".run.h5.checkpoint"));
+  auto r = run_tool("gf-shear", args + " --resume --max-unconverged 0");
+  expect_stopped(r, dir);
+}
