@@ -18,7 +18,8 @@ namespace {
 // OpenMP's wait policy. With more threads than free cores, libgomp's default (spin 300000
 // times at every barrier before sleeping) makes --threads 2 tens of times slower than one
 // thread; sleeping at once (OMP_WAIT_POLICY=passive) costs a system call per barrier. A
-// short spin, GOMP_SPINCOUNT=10000, is fast in both cases (docs/performance.md). libgomp
+// short spin, GOMP_SPINCOUNT=10000 (the tests' value, tests/CMakeLists.txt), keeps an idle
+// machine fast and a busy one several times less slow (docs/performance.md). libgomp
 // reads its environment in its initialiser, before main() and before anything an
 // executable can run except its .preinit_array; and a variable set there does not reach
 // it (the C library's own initialiser, which runs in between, resets the environment to
