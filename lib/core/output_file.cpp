@@ -1,11 +1,13 @@
 #include "core/output_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -21,13 +23,20 @@ fs::path directory_of(const fs::path& p) { return p.parent_path().empty() ? fs::
 
 std::string temp_prefix(const fs::path& final_path) { return "." + final_path.filename().string() + ".part-"; }
 
-// The pid a temporary's name carries (".NAME.part-PID" or ".NAME.part-PID-K"); 0 if none.
+bool digits(const std::string& s) {
+  return !s.empty() && s.size() < 12 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// The pid a temporary's name carries (exactly ".NAME.part-PID" or ".NAME.part-PID-K");
+// 0 for any other name.
 long pid_of(const std::string& temp_path, const std::string& prefix) {
   const std::string name = fs::path(temp_path).filename().string();
-  long pid = 0;
-  for (std::size_t k = prefix.size(); k < name.size() && name[k] >= '0' && name[k] <= '9'; ++k)
-    pid = pid * 10 + (name[k] - '0');
-  return pid;
+  if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) return 0;
+  const std::string rest = name.substr(prefix.size());
+  const std::size_t dash = rest.find('-');
+  const std::string pid = rest.substr(0, dash);
+  if (!digits(pid) || (dash != std::string::npos && !digits(rest.substr(dash + 1)))) return 0;
+  return std::stol(pid);
 }
 
 struct flock whole_file(short type) {
@@ -59,8 +68,7 @@ std::vector<std::string> output_temporaries(const std::string& final_path) {
   std::error_code ec;
   for (fs::directory_iterator it(directory_of(p), ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 && pid_of(name, prefix) > 0)
-      found.push_back((directory_of(p) / name).string());
+    if (pid_of(name, prefix) > 0) found.push_back((directory_of(p) / name).string());
   }
   std::sort(found.begin(), found.end());
   return found;
@@ -68,11 +76,17 @@ std::vector<std::string> output_temporaries(const std::string& final_path) {
 
 bool temporary_locked(const std::string& temp_path) {
   const int fd = ::open(temp_path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
+  if (fd < 0) return errno != ENOENT;  // unreadable: not ours to judge, leave it alone
   struct flock l = whole_file(F_WRLCK);
-  const bool locked = ::fcntl(fd, F_OFD_GETLK, &l) == 0 && l.l_type != F_UNLCK;
+  const int got = ::fcntl(fd, F_OFD_GETLK, &l);
   ::close(fd);  // a descriptor of its own: closing it releases no lock
-  return locked;
+  if (got == 0) return l.l_type != F_UNLCK;
+  // A file system without locks (some network ones): whether the process the name
+  // carries is alive on this host.
+  const std::string name = fs::path(temp_path).filename().string();
+  const std::size_t at = name.rfind(".part-");
+  const long pid = at == std::string::npos ? 0 : std::atol(name.c_str() + at + 6);
+  return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno == EPERM);
 }
 
 std::string own_temporary(const std::string& final_path) {
@@ -110,7 +124,9 @@ OutputFile::OutputFile(std::string final_path, bool resumable)
     throw UsageError("cannot write '" + final_path_ + "': cannot create '" + temp_path_ + "' in directory '" +
                      dir.string() + "' (" + std::strerror(error) + ")");
   }
-  if (!lock(lock_fd_)) {
+  // Without lock support (ENOLCK, EINVAL...) the temporary stays unlocked, and others
+  // judge it by its pid (temporary_locked).
+  if (!lock(lock_fd_) && (errno == EAGAIN || errno == EACCES)) {
     const int error = errno;
     ::unlink(temp_path_.c_str());
     ::close(lock_fd_);

@@ -56,14 +56,17 @@ class OutputFile {
 // "<dir>/.<name>.checkpoint" beside an output path.
 std::string checkpoint_path(const std::string& output);
 
-// The temporaries ".NAME.part-<digits>" of an output that exist now, in name order.
+// The temporaries of an output that exist now (named exactly ".NAME.part-PID" or
+// ".NAME.part-PID-K", digits), in name order.
 std::vector<std::string> output_temporaries(const std::string& final_path);
 
 // This process's own temporary of an output (the locked one named with its pid), or ""
 // when it writes none.
 std::string own_temporary(const std::string& final_path);
 
-// Whether a live process holds the lock of an output temporary (false once it is gone).
+// Whether a live process holds the lock of an output temporary (false once it is gone;
+// true if it cannot be opened to tell). On a file system without locks: whether the
+// process its name carries is alive.
 bool temporary_locked(const std::string& temp_path);
 
 // UsageError ("option --output: ...") when `output` is the same file as any of

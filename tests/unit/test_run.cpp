@@ -433,6 +433,9 @@ TEST(RunOutputLock, StaleTemporariesGoAtTheNextCommit) {
   const std::string out_path = dir / "out.h5";
   const std::string stale = dir / ".out.h5.part-999999999";
   std::ofstream(stale) << "left by a kill -9";
+  // Not a program's temporary: a pipeline script's (Python tempfile) of the same name.
+  const std::string other = dir / ".out.h5.part-8x2k_1.h5";
+  std::ofstream(other) << "someone else's";
   {
     OutputFile out(out_path);
     EXPECT_EQ(out.stale(), std::vector<std::string>{stale});
@@ -451,6 +454,7 @@ TEST(RunOutputLock, StaleTemporariesGoAtTheNextCommit) {
     out.commit();
   }
   EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(other));
 }
 
 // An unfinished run's file is refused by readers, except for a resume; close() removes
