@@ -130,11 +130,7 @@ int main(int argc, char** argv) {
     s.clusters_frame = cli.integer("clusters-frame");
     s.quiet = cli.flag_set("quiet");
 
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    for (const auto& input : cli.positional())
-      if (fs::exists(cli.text("output"), ec) && fs::equivalent(input, cli.text("output"), ec))
-        throw UsageError("the output '" + cli.text("output") + "' is also an input");
+    refuse_output_among_inputs(cli.text("output"), cli.positional(), references);
     OutputFile out(cli.text("output"));
     const correlation::Report report = correlation::correlate(cli.positional(), references, s);
     io::Parameters parameters = io::provenance(cli);

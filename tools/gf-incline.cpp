@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
             },
     };
 
+    refuse_output_among_inputs(cli.text("output"), {input_path});
     OutputFile out(cli.text("output"), /*resumable=*/true);
     StartedRun run = start_or_resume(cli, plan, out, run_start);
     const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_incline_observables);

@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
         start = read_packing(cli.text("input"), cli.integer("frame"));
         io::add_input(parameters, cli.text("input"));
       }
+      refuse_output_among_inputs(cli.text("output"), {cli.given("input") ? cli.text("input") : ""});
       OutputFile out(cli.text("output"));
       Progress bar("gf-pack", 1.0, quiet);
       char status[64];

@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
         .restore = {},  // nothing of its own in the checkpoints
     };
 
+    refuse_output_among_inputs(cli.text("output"), {input_path});
     OutputFile out(cli.text("output"), /*resumable=*/true);
     StartedRun run = start_or_resume(cli, plan, out, run_start);
     const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_shear_observables);

@@ -3,15 +3,29 @@
 // the final path only by commit(), so an interrupted or failed run never leaves a
 // file that make would take as finished. The temporary is removed on destruction
 // if commit() was never reached.
+//
+// Every program names its temporary ".NAME.part-PID" (PID: the process writing it)
+// and holds an open-file-description lock (fcntl F_OFD_SETLK) on it for its whole
+// life. OFD locks are independent of the flock() HDF5 takes on the files it opens
+// and survive HDF5 closing its own descriptors of the file, so the lock says exactly
+// whether a live process owns a temporary:
+//   - another ".NAME.part-*" that is locked: another process is writing NAME, and this
+//     one refuses at once (UsageError), removing only its own temporary;
+//   - one that is not locked: its writer died (kill -9, power loss); it is stale and
+//     removed (discard_stale), except an interrupted resumable run's partial, which
+//     its checkpoint ".NAME.checkpoint" names and a --resume adopts.
 #include <string>
+#include <vector>
 
 namespace granflow {
 
 class OutputFile {
  public:
-  // Checks up front that the directory exists and is writable (UsageError otherwise).
-  // A resumable output uses the fixed temporary name ".NAME.part" (instead of one
-  // with the process id) so that a later run can find and continue it.
+  // Checks that the directory exists and is writable, creates and locks the temporary,
+  // and refuses (UsageError) when another live process writes the same output. Touches
+  // no other file. A resumable output (gf-shear, gf-incline) leaves stale temporaries
+  // to the caller, which knows which one its checkpoint names; any other output
+  // removes them when it commits.
   explicit OutputFile(std::string final_path, bool resumable = false);
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
@@ -23,9 +37,43 @@ class OutputFile {
   // Leave the temporary in place at destruction (an interrupted resumable run).
   void keep_partial() { keep_ = true; }
 
+  // Temporaries of NAME left by dead processes, as found when this one started.
+  const std::vector<std::string>& stale() const { return stale_; }
+  // Removes them (those still unlocked).
+  void discard_stale();
+  // Makes `partial`, a stale temporary of this output, this process's own: locks it and
+  // renames it over temp_path() (the file keeps its inode). UsageError if it is gone or
+  // another process has locked it in the meantime.
+  void adopt(const std::string& partial);
+
  private:
   std::string final_path_, temp_path_;
-  bool committed_ = false, keep_ = false;
+  std::vector<std::string> stale_;
+  int lock_fd_ = -1;  // holds the OFD lock on the temporary
+  bool resumable_ = false, committed_ = false, keep_ = false;
 };
+
+// "<dir>/.<name>.checkpoint" beside an output path.
+std::string checkpoint_path(const std::string& output);
+
+// The temporaries of an output that exist now (named exactly ".NAME.part-PID" or
+// ".NAME.part-PID-K", digits), in name order.
+std::vector<std::string> output_temporaries(const std::string& final_path);
+
+// This process's own temporary of an output (the locked one named with its pid), or ""
+// when it writes none.
+std::string own_temporary(const std::string& final_path);
+
+// Whether a live process holds the lock of an output temporary (false once it is gone;
+// true if it cannot be opened to tell). On a file system without locks: whether the
+// process its name carries is alive.
+bool temporary_locked(const std::string& temp_path);
+
+// UsageError ("option --output: ...") when `output` is the same file as any of
+// `inputs` (device and inode: "./NAME", other spellings, symlinks and hard links are
+// all caught). Empty input paths are ignored; `more` are inputs of another role (e.g.
+// references).
+void refuse_output_among_inputs(const std::string& output, const std::vector<std::string>& inputs,
+                                const std::vector<std::string>& more = {});
 
 }  // namespace granflow

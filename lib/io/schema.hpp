@@ -18,6 +18,8 @@ inline const std::string kLeesEdwards = "/lees_edwards";
 inline const std::string kContacts = "/contacts";
 inline const std::string kFrameOffset = "/contacts/frame_offset";
 inline const std::string kObservables = "/observables";
+// Root attribute of a run still being written or interrupted (readers refuse it).
+inline const std::string kUnfinished = "unfinished";
 inline const std::string kPosition = "/particles/grains/position";
 inline const std::string kVelocity = "/particles/grains/velocity";
 inline const std::string kOrientation = "/particles/grains/orientation";

@@ -118,8 +118,14 @@ class TrajectoryWriter {
   void write_array(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<double>& values,
                    const Parameters& attributes = {});
 
+  // Marks the file as an unfinished run (root attribute `unfinished`, see
+  // docs/file-format.md), which readers refuse. close() removes the mark;
+  // close_unfinished() keeps it (an interrupted run, continued by --resume).
+  void mark_unfinished();
+
   void flush();  // writes buffered rows and flushes the file
   void close();  // flush and close; further calls fail
+  void close_unfinished();
 
   std::size_t frame_count() const;
   const std::string& path() const;
@@ -143,7 +149,9 @@ class TrajectoryReader {
   // Checks the file up front; UsageError with one line naming the path and what is
   // wrong (missing, not HDF5 or truncated, missing group, dataset of the wrong shape).
   // Every later error reading it is a UsageError naming the path too.
-  explicit TrajectoryReader(const std::string& path);
+  // A file marked unfinished (TrajectoryWriter::mark_unfinished) is refused too, unless
+  // accept_unfinished (resume only).
+  explicit TrajectoryReader(const std::string& path, bool accept_unfinished = false);
   TrajectoryReader(TrajectoryReader&&) noexcept;
   TrajectoryReader& operator=(TrajectoryReader&&) noexcept;
   ~TrajectoryReader();

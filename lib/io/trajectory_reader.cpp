@@ -129,7 +129,7 @@ TrajectoryReader::TrajectoryReader(TrajectoryReader&&) noexcept = default;
 TrajectoryReader& TrajectoryReader::operator=(TrajectoryReader&&) noexcept = default;
 TrajectoryReader::~TrajectoryReader() = default;
 
-TrajectoryReader::TrajectoryReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinished) : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) impl_->bad("no such file");
@@ -144,6 +144,10 @@ TrajectoryReader::TrajectoryReader(const std::string& path) : impl_(std::make_un
   if (is_hdf5 == 0) impl_->bad("not an HDF5 file");
   as_usage_error([&] {
     impl_->file = open_file(path, false);
+    if (!accept_unfinished && has_attribute(impl_->file.get(), schema::kUnfinished))
+      impl_->bad(
+          "is an unfinished run (interrupted, or still being written): continue it with --resume of the same "
+          "command, or run that command without --resume to start over");
     impl_->validate();
   });
 }

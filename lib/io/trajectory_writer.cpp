@@ -83,6 +83,7 @@ struct TrajectoryWriter::Impl {
   std::string path;
   File file;
   Content content;
+  bool unfinished = false;  // the file carries the mark
 
   // The open file; RuntimeFailure after close().
   hid_t id() const {
@@ -131,9 +132,10 @@ struct TrajectoryWriter::Impl {
     return o;
   }
 
-  void close() {
+  void close(bool finished = true) {
     if (!file) return;
     flush_observables();
+    if (finished && unfinished) delete_attribute_if_exists(file.get(), schema::kUnfinished);
     content = Content{};
     if (H5Fclose(file.release()) < 0) throw Hdf5Error("'" + path + "': close: " + hdf5_reason());
   }
@@ -313,6 +315,12 @@ void TrajectoryWriter::flush() {
 }
 
 void TrajectoryWriter::close() { impl_->close(); }
+void TrajectoryWriter::close_unfinished() { impl_->close(false); }
+
+void TrajectoryWriter::mark_unfinished() {
+  write_attribute(impl_->id(), schema::kUnfinished, std::int64_t(1));
+  impl_->unfinished = true;
+}
 
 std::size_t TrajectoryWriter::frame_count() const {
   const Content& c = impl_->content;
@@ -324,7 +332,7 @@ const std::string& TrajectoryWriter::path() const { return impl_->path; }
 TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path, std::size_t keep_frames,
                                                      std::int64_t keep_observables_through_step) {
   {
-    TrajectoryReader reader(path);  // the same checks and messages as any input
+    TrajectoryReader reader(path, /*accept_unfinished=*/true);  // the same checks and messages as any input
     if (keep_frames > reader.frame_count())
       throw UsageError("'" + path + "': cannot keep " + std::to_string(keep_frames) + " frames, the file has " +
                        std::to_string(reader.frame_count()));
@@ -334,6 +342,7 @@ TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path, st
   try {
     impl->file = open_file(path, true);
     hid_t file = impl->file.get();
+    impl->unfinished = has_attribute(file, schema::kUnfinished);
     Content& c = impl->content;
     Dataset radius = open_dataset(file, schema::kGrains + "/radius");
     c.grains = shape(radius.get()).at(0);

@@ -1,5 +1,7 @@
 #include "run/checkpoint.hpp"
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <filesystem>
 
@@ -8,10 +10,17 @@
 
 namespace granflow {
 
-std::string checkpoint_path(const std::string& output) {
-  std::filesystem::path p(output);
-  return (p.parent_path() / ("." + p.filename().string() + ".checkpoint")).string();
+namespace {
+
+// The output a checkpoint path ("<dir>/.<name>.checkpoint") belongs to; "" otherwise.
+std::string output_of_checkpoint(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::string name = p.filename().string(), suffix = ".checkpoint";
+  if (name.size() <= 1 + suffix.size() || name[0] != '.' || !name.ends_with(suffix)) return "";
+  return (p.parent_path() / name.substr(1, name.size() - 1 - suffix.size())).string();
 }
+
+}  // namespace
 
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
                       const std::string& signature, const CheckpointExtra& extra) {
@@ -27,6 +36,14 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     info.set("max_residual", stats.max_residual);
     info.set("wall_seconds", stats.wall_seconds);
     info.set("signature", signature);
+    const std::string output = output_of_checkpoint(path);
+    const std::string partial = output.empty() ? "" : own_temporary(output);
+    struct stat st {};
+    if (!partial.empty() && ::stat(partial.c_str(), &st) == 0) {
+      info.set("partial", std::filesystem::path(partial).filename().string());
+      info.set("partial_device", std::int64_t(st.st_dev));
+      info.set("partial_inode", std::int64_t(st.st_ino));
+    }
     writer.write_attributes("/checkpoint", info);
     writer.write_grains(properties_of(engine.state()), engine.box());
     if (engine.box().periodic_y) writer.set_lees_edwards_rate(engine.rate());
@@ -51,6 +68,11 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.stats.max_residual = info.get_double("max_residual");
   c.stats.wall_seconds = info.get_double("wall_seconds");
   c.signature = info.get_string("signature");
+  if (info.has("partial_inode")) {
+    c.partial = info.get_string("partial");
+    c.partial_device = info.get_int("partial_device");
+    c.partial_inode = info.get_int("partial_inode");
+  }
   c.frame = reader.frame(0);
   c.grains = reader.grains();
   return c;

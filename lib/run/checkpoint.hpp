@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "core/output_file.hpp"
 #include "dynamics/engine.hpp"
 #include "io/trajectory.hpp"
 
@@ -25,16 +26,25 @@ struct Checkpoint {
   std::int64_t step = 0;
   RunStats stats;
   std::string signature;  // the options that define the run; must match to resume
+  // The partial output the checkpoint belongs to: the temporary of the process that
+  // wrote it, by name and by device and inode (which a rename keeps, so a resume that
+  // adopted it under its own name and was killed before its next checkpoint still
+  // finds it). Empty and 0 when no such temporary existed (tests, older checkpoints).
+  std::string partial;
+  std::int64_t partial_device = 0, partial_inode = 0;
+  std::string partial_path;  // where resume_point found it
   io::Frame frame;
   io::GrainProperties grains;
 };
 
-// "<dir>/.<name>.checkpoint" beside an output path.
-std::string checkpoint_path(const std::string& output);
+// checkpoint_path(output): "<dir>/.<name>.checkpoint" beside an output path (see
+// core/output_file.hpp).
 
 // Adds a caller's own state to a checkpoint file (read back with a TrajectoryReader).
 using CheckpointExtra = std::function<void(io::TrajectoryWriter&)>;
 
+// Records this process's temporary of the checkpoint's output (own_temporary) as the
+// partial output it belongs to.
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
                       const std::string& signature, const CheckpointExtra& extra = {});
 // UsageError naming the file if it is not a checkpoint.

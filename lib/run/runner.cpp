@@ -1,11 +1,14 @@
 #include "run/runner.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "core/sha256.hpp"
 #include "io/provenance.hpp"
 #include "run/frames.hpp"
 
@@ -95,7 +98,32 @@ void set_length(RunPlan& plan, std::int64_t total_steps) {
   plan.total_steps = total_steps;
 }
 
-std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& plan, const OutputFile& out) {
+namespace {
+
+// The partial output a checkpoint belongs to, among the output's temporaries not locked
+// by a live process (OutputFile has refused the run otherwise); "" if none is left.
+std::string find_partial(const Checkpoint& checkpoint, const OutputFile& out) {
+  namespace fs = std::filesystem;
+  if (checkpoint.partial_inode == 0) {
+    // A checkpoint of a granflow that named the partial output ".NAME.part".
+    const fs::path p(out.final_path());
+    const std::string legacy = (p.parent_path() / ("." + p.filename().string() + ".part")).string();
+    std::error_code ec;
+    return fs::exists(legacy, ec) && fs::file_size(legacy, ec) > 0 ? legacy : "";
+  }
+  for (const std::string& t : output_temporaries(out.final_path())) {
+    struct stat st {};
+    if (t != out.temp_path() && ::stat(t.c_str(), &st) == 0 && std::int64_t(st.st_dev) == checkpoint.partial_device &&
+        std::int64_t(st.st_ino) == checkpoint.partial_inode)
+      return t;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
+                                       const std::string& input_path) {
   if (!cli.flag_set("resume")) return std::nullopt;
   if (!std::filesystem::exists(plan.checkpoint_path)) {
     if (!plan.quiet)
@@ -103,16 +131,29 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
                    out.final_path().c_str());
     return std::nullopt;
   }
+  // Everything is checked before anything is changed: a refused resume leaves the
+  // checkpoint and its partial output as they were.
   Checkpoint checkpoint = read_checkpoint(plan.checkpoint_path);
   if (checkpoint.signature != plan.signature)
     throw UsageError("checkpoint '" + plan.checkpoint_path + "' was made with other options (" + checkpoint.signature +
                      "); run without --resume to start over");
-  // OutputFile's writability test creates the temporary when it is missing; a partial
-  // trajectory is never empty (it has at least the HDF5 superblock).
-  std::error_code ec;
-  if (!std::filesystem::exists(out.temp_path()) || std::filesystem::file_size(out.temp_path(), ec) == 0)
-    throw UsageError("checkpoint '" + plan.checkpoint_path + "' has no partial trajectory '" + out.temp_path() +
-                     "' beside it; run without --resume to start over");
+  checkpoint.partial_path = find_partial(checkpoint, out);
+  if (checkpoint.partial_path.empty())
+    throw UsageError("checkpoint '" + plan.checkpoint_path + "': its partial output" +
+                     (checkpoint.partial.empty() ? std::string() : " '" + checkpoint.partial + "'") +
+                     " is missing; run without --resume to start over");
+  const io::TrajectoryReader partial(checkpoint.partial_path, /*accept_unfinished=*/true);
+  if (partial.frame_count() < std::size_t(checkpoint.stats.frames_written))
+    throw UsageError("'" + checkpoint.partial_path + "' has " + std::to_string(partial.frame_count()) +
+                     " frame(s) but its checkpoint '" + plan.checkpoint_path + "' counts " +
+                     std::to_string(checkpoint.stats.frames_written) + "; run without --resume to start over");
+  const io::Parameters parameters = partial.parameters();
+  if (!input_path.empty() && parameters.has("input_sha256")) {
+    const std::string then = parameters.get_string("input_sha256"), now = sha256_file(input_path);
+    if (now != then)
+      throw UsageError("input '" + input_path + "' has changed since the interrupted run (SHA-256 " + now +
+                       ", the run started from " + then + "); run without --resume to start over");
+  }
   return checkpoint;
 }
 
@@ -121,20 +162,32 @@ io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFil
                                                  checkpoint.step);
 }
 
-StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out, const RunStart& start) {
-  if (const std::optional<Checkpoint> checkpoint = resume_point(cli, plan, out)) {
-    Engine engine(grains_of(checkpoint->frame, checkpoint->grains), checkpoint->frame.box, start.rate, start.material,
-                  start.settings, start.dt, start.gravity);
-    engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
-    if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
-    return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFile& out, const RunStart& start) {
+  if (const std::optional<Checkpoint> checkpoint = resume_point(cli, plan, out, start.input_path)) {
+    out.adopt(checkpoint->partial_path);
+    out.discard_stale();
+    try {
+      Engine engine(grains_of(checkpoint->frame, checkpoint->grains), checkpoint->frame.box, start.rate, start.material,
+                    start.settings, start.dt, start.gravity);
+      engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
+      if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
+      return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};
+    } catch (...) {
+      // The adopted partial stays resumable: the checkpoint finds it by its inode.
+      out.keep_partial();
+      throw;
+    }
   }
+  // Starting over: an interrupted run's checkpoint and partial output are discarded.
+  std::filesystem::remove(plan.checkpoint_path);
+  out.discard_stale();
   Engine engine(start.grains, start.box, start.rate, start.material, start.settings, start.dt, start.gravity);
   engine.restore(0, memory_of(start.contacts));
   io::Parameters parameters = io::provenance(cli);
   io::add_input(parameters, start.input_path);
   if (start.add_parameters) start.add_parameters(parameters);
   io::TrajectoryWriter writer(out.temp_path());
+  writer.mark_unfinished();
   writer.write_parameters(parameters);
   writer.write_grains(properties_of(start.grains), start.box);
   if (start.box.periodic_y) writer.set_lees_edwards_rate(start.rate);
@@ -153,7 +206,7 @@ RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile&
     return run_steps(engine, writer, plan, stats, observe);
   } catch (const Interrupted&) {
     out.keep_partial();
-    writer.close();
+    writer.close_unfinished();
     throw;
   } catch (...) {
     std::filesystem::remove(plan.checkpoint_path);

@@ -40,10 +40,14 @@ RunPlan run_plan(const CommandLine& cli);
 // total_steps, and frame_every when --frame-every was 0 (100 frames per run).
 void set_length(RunPlan& plan, std::int64_t total_steps);
 
-// With --resume and a checkpoint beside the output: that checkpoint, after checking it
-// was made with the same options and its partial output is there (UsageError
-// otherwise). Without a checkpoint a note says the run starts over; nullopt.
-std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& plan, const OutputFile& out);
+// With --resume and a checkpoint beside the output: that checkpoint, with partial_path
+// set, after checking that it was made with the same options, that its partial output
+// is there (found by inode among the output's temporaries) and holds its frames, and
+// that the input (when input_path is given) still has the SHA-256 the run recorded
+// (UsageError otherwise; nothing is changed). Without a checkpoint a note says the run
+// starts over; nullopt.
+std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& plan, const OutputFile& out,
+                                       const std::string& input_path = "");
 
 // The partial trajectory of a checkpointed run, reopened after its last checkpoint.
 io::TrajectoryWriter reopen_output(const Checkpoint& checkpoint, const OutputFile& out);
@@ -77,13 +81,16 @@ struct StartedRun {
   RunStats stats;
 };
 
-// With --resume and a checkpoint (resume_point): the engine at the checkpoint's state
-// and step, its warm start, the program's state (start.restore), the statistics so far
-// and the reopened partial output. Otherwise: the engine at start.grains with the warm
-// start of start.contacts, and a new output at out.temp_path() holding /parameters
-// (provenance, input, start.add_parameters), the grains, the Lees–Edwards rate (box
-// periodic in y) and the first frame (step 0, with start.contacts).
-StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const OutputFile& out, const RunStart& start);
+// With --resume and a checkpoint (resume_point): adopts the checkpoint's partial output
+// as out's temporary, and returns the engine at the checkpoint's state and step, its
+// warm start, the program's state (start.restore), the statistics so far and the
+// reopened partial output. Otherwise (starting over): removes any old checkpoint, and
+// returns the engine at start.grains with the warm start of start.contacts, and a new
+// output at out.temp_path(), marked unfinished, holding /parameters (provenance, input,
+// start.add_parameters), the grains, the Lees–Edwards rate (box periodic in y) and the
+// first frame (step 0, with start.contacts). Either way the output's stale temporaries
+// are removed.
+StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFile& out, const RunStart& start);
 
 // run_steps for a resumable output: on a signal the partial output and the checkpoint
 // are kept (and Interrupted is rethrown); on any other failure the checkpoint goes

@@ -87,13 +87,41 @@ inline int wait_exit_code(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// The temporaries ".NAME.part-PID" of an output (".NAME.part" too) that exist now.
+inline std::vector<std::filesystem::path> partials_of(const std::filesystem::path& output) {
+  std::vector<std::filesystem::path> found;
+  const std::string prefix = "." + output.filename().string() + ".part";
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(output.parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) == 0 && (name.size() == prefix.size() || name[prefix.size()] == '-'))
+      found.push_back(it->path());
+  }
+  return found;
+}
+
+// ".NAME.checkpoint" beside an output.
+inline std::filesystem::path checkpoint_of(const std::filesystem::path& output) {
+  return output.parent_path() / ("." + output.filename().string() + ".checkpoint");
+}
+
+// Waits (up to 5 s) until the output's temporary appears, or the process `pid` ends;
+// whether it appeared.
+inline bool wait_for_partial(const std::filesystem::path& output, pid_t pid = 0) {
+  for (int k = 0; k < 500; ++k) {
+    if (!partials_of(output).empty()) return true;
+    if (pid > 0 && ::waitpid(pid, nullptr, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
 // Starts a program writing `output`, sends it `signal` `settle_ms` after its temporary
-// .NAME.part appears, and returns its exit code (0: it finished before the signal).
+// .NAME.part-PID appears, and returns its exit code (0: it finished before the signal).
 inline int interrupted_run(const std::string& name, const std::string& args, const std::filesystem::path& output,
                            const std::string& log, int settle_ms, int signal = SIGINT) {
   const pid_t pid = start_tool(name, args, log);
-  const auto partial = output.parent_path() / ("." + output.filename().string() + ".part");
-  for (int k = 0; k < 200 && !std::filesystem::exists(partial); ++k)
+  for (int k = 0; k < 200 && partials_of(output).empty(); ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(settle_ms));
   ::kill(pid, signal);
@@ -115,8 +143,35 @@ struct BadInput {
 inline void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
 inline std::string bad_input_name(const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; }
 
+// What a refusal must leave as it found it: every regular file under `paths` (files, or
+// directories walked recursively) by name, size and content.
+using FileSnapshot = std::map<std::string, std::pair<std::uintmax_t, std::size_t>>;
+inline FileSnapshot snapshot(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  FileSnapshot files;
+  auto add = [&](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    files[p.string()] = {ss.str().size(), std::hash<std::string>{}(ss.str())};
+  };
+  for (const std::string& path : paths) {
+    std::error_code ec;
+    if (fs::is_regular_file(path, ec)) {
+      add(path);
+    } else if (fs::is_directory(path, ec)) {
+      files[path + "/"] = {0, 0};  // the directory itself, so an emptied one differs from none
+      for (fs::recursive_directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
+        if (it->is_regular_file(ec)) add(it->path());
+        else files[it->path().string()] = {0, 1};  // a directory, link or other entry
+    }
+  }
+  return files;
+}
+
 // Runs `tool` with c.args, each {key} replaced by its value and {out} by a path in a fresh
-// scratch directory, plus `extra` arguments; checks the refusal.
+// scratch directory, plus `extra` arguments; checks the refusal, and that the scratch
+// directory and every file among the values (the inputs) are unchanged byte for byte.
 inline void expect_refused(const std::string& tool, const BadInput& c,
                            const std::vector<std::pair<std::string, std::string>>& values,
                            const std::string& extra = "") {
@@ -127,11 +182,16 @@ inline void expect_refused(const std::string& tool, const BadInput& c,
   for (const auto& [key, value] : all)
     for (auto at = args.find(key); at != std::string::npos; at = args.find(key, at + value.size()))
       args.replace(at, key.size(), value);
+  std::vector<std::string> watched{dir.path.string()};
+  for (const auto& [key, value] : values)
+    if (std::filesystem::is_regular_file(value)) watched.push_back(value);
+  const FileSnapshot before = snapshot(watched);
   auto r = run_tool(tool, args + extra);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
   EXPECT_EQ(dir.entries(), 0) << "output, partial file or checkpoint left behind";
+  EXPECT_TRUE(snapshot(watched) == before) << "the refusal changed the directory or an input";
 }
 
 }  // namespace granflow::testing

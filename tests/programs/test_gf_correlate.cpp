@@ -357,7 +357,7 @@ TEST(GfCorrelateBadInput, NotHdf5AndOutputIsInput) {
   write_pairs_run(run, 0.6, 0.5, 1.3, 4, 0);
   r = run_tool("gf-correlate", run + " -o " + run);
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("also an input"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("same file as the input"), std::string::npos) << r.err;
   EXPECT_EQ(dir.entries(), 2);
 }
 

@@ -15,6 +15,7 @@
 #include "core/cli.hpp"
 #include "core/error.hpp"
 #include "core/output_file.hpp"
+#include "core/sha256.hpp"
 #include "dynamics/engine.hpp"
 #include "io/trajectory.hpp"
 #include "packing/packing.hpp"
@@ -217,7 +218,7 @@ bool run(const CommandLine& cli, const std::string& input, std::int64_t steps, s
     r.writer.flush();
     write_checkpoint(plan.checkpoint_path, r.engine, stats, plan.signature);
     out.keep_partial();
-    r.writer.close();
+    r.writer.close_unfinished();
     return false;
   }
   const RunStats stats = run_resumable(r.engine, r.writer, out, plan, r.stats, observe);
@@ -234,12 +235,12 @@ TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
 
   EXPECT_FALSE(run(run_cli(dir / "cut.h5", options), input, 60, 30));
   EXPECT_FALSE(fs::exists(dir / "cut.h5"));
-  ASSERT_TRUE(fs::exists(dir / ".cut.h5.part"));
+  ASSERT_EQ(output_temporaries(dir / "cut.h5").size(), 1u);
   ASSERT_TRUE(fs::exists(dir / ".cut.h5.checkpoint"));
   std::vector<std::string> resume = options;
   resume.insert(resume.end(), {"--resume", "--threads", "2"});
   ASSERT_TRUE(run(run_cli(dir / "cut.h5", resume), input, 60));
-  EXPECT_FALSE(fs::exists(dir / ".cut.h5.part"));
+  EXPECT_TRUE(output_temporaries(dir / "cut.h5").empty());
   EXPECT_FALSE(fs::exists(dir / ".cut.h5.checkpoint"));
 
   io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
@@ -266,8 +267,9 @@ TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
   EXPECT_EQ(ref.attributes("/run").get_double("mean_iterations"), cut.attributes("/run").get_double("mean_iterations"));
 }
 
-// A resume must be asked for, match the checkpoint's options, and find the partial
-// output; without a checkpoint it starts over.
+// A resume must be asked for, match the checkpoint's options, find the partial output
+// and be started from the same input; without a checkpoint it starts over. A refusal
+// changes no file.
 TEST(RunResume, RefusalsAndFreshStarts) {
   Scratch dir("refusals");
   const std::vector<std::string> options{"--friction", "0.4", "--frame-every", "10", "--tolerance", "1e-8"};
@@ -280,52 +282,209 @@ TEST(RunResume, RefusalsAndFreshStarts) {
     EXPECT_FALSE(resume_point(cli, run_plan(cli), out).has_value()) << "no checkpoint: start over";
   }
   EXPECT_FALSE(run(run_cli(out_path, options), input, 60, 30));
+  const std::vector<std::string> partials = output_temporaries(out_path);
+  ASSERT_EQ(partials.size(), 1u);
+  const std::string partial = partials[0];
+  const auto unchanged = [&] {
+    EXPECT_EQ(output_temporaries(out_path), partials);
+    EXPECT_TRUE(fs::exists(dir / ".cut.h5.checkpoint"));
+  };
 
   std::vector<std::string> resume = options;
   resume.push_back("--resume");
   {
     const CommandLine cli = run_cli(out_path, options);
     OutputFile out(out_path, true);
-    out.keep_partial();
     EXPECT_FALSE(resume_point(cli, run_plan(cli), out).has_value()) << "without --resume the checkpoint is ignored";
+    EXPECT_EQ(out.stale(), partials);
   }
+  unchanged();
   for (const std::vector<std::string>& changed :
        {std::vector<std::string>{"--friction", "0.3"}, {"--steps", "80"}, {"--frame-every", "20"}}) {
     SCOPED_TRACE(changed[0]);
     std::vector<std::string> args = resume;
     args.insert(args.end(), changed.begin(), changed.end());
     const CommandLine cli = run_cli(out_path, args);
-    OutputFile out(out_path, true);
-    out.keep_partial();
-    try {
-      resume_point(cli, run_plan(cli), out);
-      ADD_FAILURE() << "a resume with other options was accepted";
-    } catch (const UsageError& e) {
-      EXPECT_NE(std::string(e.what()).find("other options"), std::string::npos) << e.what();
+    {
+      OutputFile out(out_path, true);
+      try {
+        resume_point(cli, run_plan(cli), out, input);
+        ADD_FAILURE() << "a resume with other options was accepted";
+      } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("other options"), std::string::npos) << e.what();
+      }
     }
+    unchanged();
   }
   {
     const CommandLine cli = run_cli(out_path, resume);
     OutputFile out(out_path, true);
-    out.keep_partial();
-    const auto checkpoint = resume_point(cli, run_plan(cli), out);
+    const auto checkpoint = resume_point(cli, run_plan(cli), out, input);
     ASSERT_TRUE(checkpoint.has_value());
     EXPECT_EQ(checkpoint->step, 30);
     EXPECT_EQ(checkpoint->stats.frames_written, 4);
+    EXPECT_EQ(checkpoint->partial_path, partial);
+    EXPECT_EQ(checkpoint->partial, fs::path(partial).filename().string());
   }
-  // The partial output removed: OutputFile's writability test leaves an empty file in
-  // its place, which is no partial trajectory either.
-  fs::remove(dir / ".cut.h5.part");
+  unchanged();
+  // The input changed since the run started: refused, naming both hashes.
+  std::ofstream(input) << "another start state";
   {
     const CommandLine cli = run_cli(out_path, resume);
     OutputFile out(out_path, true);
-    ASSERT_TRUE(fs::exists(dir / ".cut.h5.part"));
     try {
-      resume_point(cli, run_plan(cli), out);
+      resume_point(cli, run_plan(cli), out, input);
+      ADD_FAILURE() << "a resume from a changed input was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find(sha256_file(input)), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("has changed"), std::string::npos) << e.what();
+    }
+  }
+  unchanged();
+  std::ofstream(input) << "the start state";
+  // The partial output removed: the message says it is missing.
+  fs::remove(partial);
+  {
+    const CommandLine cli = run_cli(out_path, resume);
+    OutputFile out(out_path, true);
+    try {
+      resume_point(cli, run_plan(cli), out, input);
       ADD_FAILURE() << "a resume without its partial output was accepted";
     } catch (const UsageError& e) {
-      EXPECT_NE(std::string(e.what()).find("no partial trajectory"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is missing"), std::string::npos) << e.what();
     }
+  }
+  EXPECT_TRUE(output_temporaries(out_path).empty());
+  EXPECT_TRUE(fs::exists(dir / ".cut.h5.checkpoint"));
+}
+
+// A resume adopts the partial output under its own temporary name; killed before its
+// next checkpoint, the checkpoint still finds it (by inode), and the next resume ends as
+// the uninterrupted run.
+TEST(RunResume, AdoptedPartialIsFoundAfterARenameWithoutCheckpoint) {
+  Scratch dir("adopted");
+  const std::vector<std::string> options{"--friction", "0.4", "--frame-every", "10", "--tolerance", "1e-8"};
+  const std::string input = dir / "input";
+  std::ofstream(input) << "the start state";
+  ASSERT_TRUE(run(run_cli(dir / "ref.h5", options), input, 60));
+  const std::string out_path = dir / "cut.h5";
+  EXPECT_FALSE(run(run_cli(out_path, options), input, 60, 30));
+  const std::vector<std::string> before = output_temporaries(out_path);
+  ASSERT_EQ(before.size(), 1u);
+  std::vector<std::string> resume = options;
+  resume.push_back("--resume");
+  {
+    // A resume adopts it and dies (kill -9) before writing anything.
+    const CommandLine cli = run_cli(out_path, resume);
+    const RunPlan plan = run_plan(cli);
+    OutputFile out(out_path, true);
+    EXPECT_NE(out.temp_path(), before[0]) << "a dead process's temporary of the same pid is kept";
+    const auto checkpoint = resume_point(cli, plan, out, input);
+    ASSERT_TRUE(checkpoint.has_value());
+    out.adopt(checkpoint->partial_path);
+    EXPECT_FALSE(fs::exists(before[0]));
+    EXPECT_EQ(output_temporaries(out_path), std::vector<std::string>{out.temp_path()});
+    out.keep_partial();
+  }
+  ASSERT_TRUE(run(run_cli(out_path, resume), input, 60));
+  EXPECT_TRUE(output_temporaries(out_path).empty());
+  io::TrajectoryReader ref(dir / "ref.h5"), cut(out_path);
+  ASSERT_EQ(cut.frame_count(), ref.frame_count());
+  for (std::size_t k = 0; k < ref.frame_count(); ++k) expect_same_grains(ref.frame(k), cut.frame(k));
+}
+
+// The lock of an output's temporary is an OFD lock on a descriptor OutputFile keeps: HDF5
+// creating, flock()ing, writing and closing the same file in the same process neither
+// conflicts with it nor releases it, and a second writer of the same output refuses.
+TEST(RunOutputLock, SurvivesHdf5OpeningAndClosingTheTemporary) {
+  Scratch dir("lock");
+  const std::string out_path = dir / "out.h5";
+  {
+    OutputFile out(out_path);
+    EXPECT_TRUE(temporary_locked(out.temp_path()));
+    {
+      const Start s = sheared_start();
+      const Engine engine(s.grains, s.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
+      io::TrajectoryWriter writer(out.temp_path());
+      writer.write_grains(properties_of(engine.state()), engine.box());
+      writer.append_frame(frame_of(engine, 0, 0.0));
+      writer.close();
+    }
+    EXPECT_TRUE(temporary_locked(out.temp_path())) << "HDF5 closing the file released the lock";
+    { io::TrajectoryReader reader(out.temp_path(), true); }
+    EXPECT_TRUE(temporary_locked(out.temp_path())) << "HDF5 reading the file released the lock";
+    try {
+      OutputFile second(out_path);
+      ADD_FAILURE() << "a second writer of the same output was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("another process"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(output_temporaries(out_path), std::vector<std::string>{out.temp_path()});
+    out.commit();
+    EXPECT_FALSE(temporary_locked(out_path)) << "only temporaries are locked once committed";
+  }
+  EXPECT_TRUE(output_temporaries(out_path).empty());
+}
+
+// Temporaries of dead writers are removed when the next writer of the output commits,
+// unless a checkpoint beside it may name one of them.
+TEST(RunOutputLock, StaleTemporariesGoAtTheNextCommit) {
+  Scratch dir("stale");
+  const std::string out_path = dir / "out.h5";
+  const std::string stale = dir / ".out.h5.part-999999999";
+  std::ofstream(stale) << "left by a kill -9";
+  // Not a program's temporary: a pipeline script's (Python tempfile) of the same name.
+  const std::string other = dir / ".out.h5.part-8x2k_1.h5";
+  std::ofstream(other) << "someone else's";
+  {
+    OutputFile out(out_path);
+    EXPECT_EQ(out.stale(), std::vector<std::string>{stale});
+    EXPECT_TRUE(fs::exists(stale)) << "removed before the run succeeded";
+  }
+  EXPECT_TRUE(fs::exists(stale));
+  std::ofstream(dir / ".out.h5.checkpoint") << "an interrupted run's";
+  {
+    OutputFile out(out_path);
+    out.commit();
+  }
+  EXPECT_TRUE(fs::exists(stale)) << "a checkpoint beside the output may name it";
+  fs::remove(dir / ".out.h5.checkpoint");
+  {
+    OutputFile out(out_path);
+    out.commit();
+  }
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(other));
+}
+
+// An unfinished run's file is refused by readers, except for a resume; close() removes
+// the mark.
+TEST(RunOutputLock, UnfinishedMarkIsRefusedByReaders) {
+  Scratch dir("mark");
+  const Start s = sheared_start();
+  Engine engine(s.grains, s.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
+  for (bool finished : {false, true}) {
+    const std::string path = dir / (finished ? "finished.h5" : "partial.h5");
+    {
+      io::TrajectoryWriter writer(path);
+      writer.mark_unfinished();
+      writer.write_grains(properties_of(engine.state()), engine.box());
+      writer.append_frame(frame_of(engine, 0, 0.0));
+      if (finished) writer.close();
+      else writer.close_unfinished();
+    }
+    if (finished) {
+      EXPECT_NO_THROW(io::TrajectoryReader{path});
+      continue;
+    }
+    try {
+      io::TrajectoryReader reader(path);
+      ADD_FAILURE() << "an unfinished run was read";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("unfinished"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(io::TrajectoryReader(path, true).frame_count(), 1u);
   }
 }
 
