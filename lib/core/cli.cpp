@@ -96,12 +96,15 @@ void CommandLine::flag(const std::string& name, char short_name, const std::stri
   declare(name, short_name, "", help, "", OptionKind::flag);
 }
 
+// find() throws std::logic_error for a name never declared.
 void CommandLine::conflicts(const std::string& option, const std::string& other) {
-  find(option), find(other);
+  (void)find(option);
+  (void)find(other);
   conflicts_.emplace_back(option, other);
 }
 void CommandLine::needs(const std::string& option, const std::string& other) {
-  find(option), find(other);
+  (void)find(option);
+  (void)find(other);
   needs_.emplace_back(option, other);
 }
 
