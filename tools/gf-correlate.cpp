@@ -43,44 +43,50 @@ int main(int argc, char** argv) {
         "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the xi of the thesis' figures), per direction\n"
         "too, with a flag for correlations that reach the box. With reference runs (dilute, binary\n"
         "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
-        "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak) over --blocks\n"
-        "blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
+        "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak)\n"
+        "over --blocks blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
         "diameter sigma of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
-    cli.option("output", 'o', "FILE", "output HDF5 file");
-    cli.option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
+    cli.text_option("output", 'o', "FILE", "output HDF5 file");
+    cli.real_option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
     cli.flag("detect-transient", 0,
-             "start each run later than --from-strain where its own transient ends: MSER on 100 block\n"
-             "      means of its T and p (the rule of the pipelines' steady_state.py; dilute flows heat up for\n"
-             "      many strain units); the strain used is /runs/first_strain");
-    cli.option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
-    cli.option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)", "0");
-    cli.option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
-    cli.option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
-    cli.option("abs-bin-width", 0, "D",
-               "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4", "0");
-    cli.option("abs-noise", 0, "K", "xi_abs: reduce each coarse bin of |C| by K jackknife errors (floored at 0)", "2");
-    cli.option("abs-threshold", 0, "soft|hard",
-               "xi_abs noise floor: soft subtracts --abs-noise errors from every bin (biased low by a few %),\n"
-               "      hard drops the bins below it and keeps the others whole",
-               "soft");
-    cli.option("max-tail-share", 0, "S",
-               "xi_abs not measurable (correlations reach the box) when more than S of int l|C| lies beyond\n"
-               "      2/3 of --max-lag",
-               "0.05");
-    cli.option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
-    cli.option("reference", 0, "FILES",
-               "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el,\n"
-               "      xi/xi_el is NaN and nu_bc is not computed)");
-    cli.option("xi-el", 0, "XI", "the elastic reference length xi_el, instead of --reference");
-    cli.option("threshold", 0, "C", "xi/xi_el at the binary-collision crossover nu_bc", "1.25");
-    cli.option("force-bin-width", 0, "DF", "bin width of P(f) in units of the mean force", "0.05");
-    cli.option("force-max", 0, "F", "largest f of P(f) and of the peak search", "10");
-    cli.option("kde-bandwidth", 0, "H", "bandwidth of the kernel density estimate deciding the peak of P(f)", "0.1");
-    cli.option("bootstrap", 0, "N", "bootstrap replicates of the peak decision", "200");
-    cli.option("seed", 0, "SEED", "random seed of the bootstrap", "1");
-    cli.option("clusters-window", 0, "FRAMES", "write contact clusters over this many stored frames; 0 = none", "0");
-    cli.option("clusters-frame", 0, "K", "last frame of the cluster window; negative counts from the end", "-1");
+             "start each run later than --from-strain where its own transient ends: MSER on 100 block "
+             "means of its T and p (the rule of the pipelines' steady_state.py; dilute flows heat up for "
+             "many strain units); the strain used is /runs/first_strain");
+    cli.real_option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
+    cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)",
+                    "0");
+    cli.integer_option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
+    cli.real_option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
+    cli.real_option("abs-bin-width", 0, "D",
+                    "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4",
+                    "0");
+    cli.real_option("abs-noise", 0, "K", "xi_abs: reduce each coarse bin of |C| by K jackknife errors (floored at 0)",
+                    "2");
+    cli.text_option("abs-threshold", 0, "soft|hard",
+                    "xi_abs noise floor: soft subtracts --abs-noise errors from every bin (biased low by a few %), "
+                    "hard drops the bins below it and keeps the others whole",
+                    "soft");
+    cli.real_option("max-tail-share", 0, "S",
+                    "xi_abs not measurable (correlations reach the box) when more than S of int l|C| lies beyond "
+                    "2/3 of --max-lag",
+                    "0.05");
+    cli.integer_option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
+    cli.text_option("reference", 0, "FILES",
+                    "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el, "
+                    "xi/xi_el is NaN and nu_bc is not computed)");
+    cli.real_option("xi-el", 0, "XI", "the elastic reference length xi_el, instead of --reference");
+    cli.real_option("threshold", 0, "C", "xi/xi_el at the binary-collision crossover nu_bc", "1.25");
+    cli.real_option("force-bin-width", 0, "DF", "bin width of P(f) in units of the mean force", "0.05");
+    cli.real_option("force-max", 0, "F", "largest f of P(f) and of the peak search", "10");
+    cli.real_option("kde-bandwidth", 0, "H", "bandwidth of the kernel density estimate deciding the peak of P(f)",
+                    "0.1");
+    cli.integer_option("bootstrap", 0, "N", "bootstrap replicates of the peak decision", "200");
+    cli.integer_option("seed", 0, "SEED", "random seed of the bootstrap", "1");
+    cli.integer_option("clusters-window", 0, "FRAMES", "write contact clusters over this many stored frames; 0 = none",
+                       "0");
+    cli.integer_option("clusters-frame", 0, "K", "last frame of the cluster window; negative counts from the end",
+                       "-1");
     if (!cli.parse(argc, argv)) return 0;
 
     correlation::Settings s;

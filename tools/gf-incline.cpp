@@ -28,27 +28,31 @@ int main(int argc, char** argv) {
                     "they come from in /profiles/blocks. A grain leaving the layer (through the free surface\n"
                     "above the box top, or through the base) stops the run with exit code 1.\n"
                     "Ctrl-C or SIGTERM writes a checkpoint; the same command with --resume continues bit for bit.");
-    cli.option("input", 'i', "FILE", "incline packing (gf-pack --incline) or gf-incline trajectory to start from");
-    cli.option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
-    cli.option("output", 'o', "FILE", "trajectory to write");
-    cli.option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90)");
-    cli.option("gravity", 0, "G", "magnitude g of gravity > 0", "1");
-    cli.option("time", 0, "T",
-               "duration in units of τ (ignored with --steps); a layer 25 diameters thick at 12° (μ = 0) is steady "
-               "after ≈ 700 τ",
-               "2000");
-    cli.option("steps", 0, "N", "number of time steps (overrides --time)");
-    cli.option("time-step", 0, "DT",
-               "time step in units of τ (ignored with --dt): CD's accuracy rests on small relative displacements "
-               "per step, and 2e-3 keeps the local strain per step γ̇·dt below 1e-3 up to γ̇τ = 0.5 (γ̇τ ≈ 0.16 at "
-               "the base of a 25-diameter layer at 12°)",
-               "2e-3");
-    cli.option("dt", 0, "DT", "time step in code units (overrides --time-step)");
+    cli.text_option("input", 'i', "FILE", "incline packing (gf-pack --incline) or gf-incline trajectory to start from");
+    cli.integer_option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
+    cli.text_option("output", 'o', "FILE", "trajectory to write");
+    cli.real_option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90)");
+    cli.real_option("gravity", 0, "G", "magnitude g of gravity > 0", "1");
+    cli.real_option("time", 0, "T",
+                    "duration in units of τ (not with --steps); a layer 25 diameters thick at 12° (μ = 0) is steady "
+                    "after ≈ 700 τ",
+                    "2000");
+    cli.integer_option("steps", 0, "N", "number of time steps (instead of --time)");
+    cli.real_option("time-step", 0, "DT",
+                    "time step in units of τ (not with --dt): CD's accuracy rests on small relative displacements "
+                    "per step, and 2e-3 keeps the local strain per step γ̇·dt below 1e-3 up to γ̇τ = 0.5 (γ̇τ ≈ 0.16 at "
+                    "the base of a 25-diameter layer at 12°)",
+                    "2e-3");
+    cli.real_option("dt", 0, "DT", "time step in code units (instead of --time-step)");
     add_contact_options(cli);
-    cli.option("profile-bin", 0, "H", "thickness of the profile layers, in mean diameters of the mobile grains", "3");
-    cli.option("profile-block", 0, "N", "steps per time block of the profiles (sampled at every step)", "5000");
-    cli.option("from-time", 0, "T", "average the profiles from this time (units of τ) instead of detecting it");
+    cli.real_option("profile-bin", 0, "H", "thickness of the profile layers, in mean diameters of the mobile grains",
+                    "3");
+    cli.integer_option("profile-block", 0, "N", "steps per time block of the profiles (sampled at every step)", "5000");
+    cli.real_option("from-time", 0, "T", "average the profiles from this time (units of τ) instead of detecting it");
     add_run_options(cli, "10");
+    // Options that would be ignored are refused (and not recorded).
+    cli.conflicts("time", "steps");
+    cli.conflicts("time-step", "dt");
     if (!cli.parse(argc, argv)) return 0;
 
     const Material material = material_option(cli);
@@ -59,8 +63,7 @@ int main(int argc, char** argv) {
     const double g = cli.real("gravity");
     require_positive("gravity", g);
     if (cli.given("dt")) require_positive("dt", cli.real("dt"));
-    const double time_step = cli.real("time-step");
-    require_positive("time-step", time_step);
+    else require_positive("time-step", cli.real("time-step"));
     if (cli.given("steps") && cli.integer("steps") < 1) throw UsageError("option --steps: must be >= 1");
     const double bin = cli.real("profile-bin");
     require_positive("profile-bin", bin);
@@ -76,7 +79,7 @@ int main(int argc, char** argv) {
     io::TrajectoryReader input(input_path);
     InclineStart start = incline_start(input, cli.integer("frame"));
     const double tau = std::sqrt(start.mean_radius / g);
-    const double dt = cli.given("dt") ? cli.real("dt") : time_step * tau;
+    const double dt = cli.given("dt") ? cli.real("dt") : cli.real("time-step") * tau;
     long long steps = 0;
     if (cli.given("steps")) {
       steps = cli.integer("steps");
@@ -118,6 +121,9 @@ int main(int argc, char** argv) {
               parameters.set("mean_mass", start.mean_mass);
               parameters.set("tau", tau);
               parameters.set("dt", dt);
+              // As used, when --steps or --dt decided them.
+              if (!parameters.has("time")) parameters.set("time", double(steps) * dt / tau);
+              if (!parameters.has("time-step")) parameters.set("time-step", dt / tau);
               parameters.set("grains", std::int64_t(start.grains.size() - start.base_grains));
               parameters.set("base_grains", std::int64_t(start.base_grains));
               parameters.set("total_steps", std::int64_t(steps));

@@ -1,7 +1,9 @@
 // gf-pack: initial configurations (thesis App. A.3) — a biperiodic packing at a
 // target packing fraction, or a dilute layer above a fixed rough base (--incline).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
@@ -24,18 +26,33 @@ int main(int argc, char** argv) {
                     "With --input, the grains of an existing packing (or of a trajectory frame) are\n"
                     "brought to --packing-fraction instead: same radii, box and positions scaled, relaxed.\n"
                     "The output is a one-frame H5MD trajectory that gf-shear / gf-incline read.");
-    cli.option("input", 'i', "FILE", "repack the grains of this packing or trajectory (see --frame)");
-    cli.option("frame", 0, "K", "with --input: frame to start from (negative counts from the end)", "-1");
-    cli.option("output", 'o', "FILE", "packing file to write (HDF5, H5MD layout)");
-    cli.option("grains", 'n', "N", "number of grains (with --incline: mobile grains; 0 = from --height)", "1000");
-    cli.option("packing-fraction", 0, "NU", "target area fraction ν, in (0, 0.91)", "0.8");
-    cli.option("mean-diameter", 0, "SIGMA", "mean grain diameter σ", "1.4");
-    cli.option("polydispersity", 0, "DELTA", "half-width of the diameter distribution Δ/σ, in [0, 1)", "0.26");
-    cli.option("seed", 0, "SEED", "random seed (same seed and options: identical packing)", "1");
-    cli.option("tolerance", 0, "TOL", "relax until the largest overlap is below TOL·σ", "1e-9");
+    cli.text_option("input", 'i', "FILE", "repack the grains of this packing or trajectory (see --frame)");
+    cli.integer_option("frame", 0, "K", "with --input: frame to start from (negative counts from the end)", "-1");
+    cli.text_option("output", 'o', "FILE", "packing file to write (HDF5, H5MD layout)");
+    cli.integer_option("grains", 'n', "N",
+                       "number of grains, not with --input (with --incline: mobile grains; 0 = from --height)", "1000");
+    cli.real_option("packing-fraction", 0, "NU", "target area fraction ν, in (0, 0.91) (not with --incline)", "0.8");
+    cli.real_option("mean-diameter", 0, "SIGMA", "mean grain diameter σ (not with --input)", "1.4");
+    cli.real_option("polydispersity", 0, "DELTA",
+                    "half-width of the diameter distribution Δ/σ, in [0, 1) (not with --input)", "0.26");
+    cli.integer_option("seed", 0, "SEED", "random seed, not with --input (same seed and options: identical packing)",
+                       "1");
+    cli.real_option("tolerance", 0, "TOL", "relax until the largest overlap is below TOL·σ (not with --incline)",
+                    "1e-9");
     cli.flag("incline", 0, "make an incline start instead of a biperiodic packing");
-    cli.option("width", 0, "W", "incline: base length in mean diameters", "40");
-    cli.option("height", 0, "H", "incline: layer thickness in mean diameters, used when --grains is 0", "25");
+    cli.real_option("width", 0, "W", "with --incline: base length in mean diameters", "40");
+    cli.real_option("height", 0, "H",
+                    "with --incline: layer thickness in mean diameters, when --grains is not given (or 0)", "25");
+    // Options that cannot apply are refused, not ignored (and not recorded): a repack takes
+    // its grains, sizes and count from the input; an incline start is not relaxed to a
+    // packing fraction.
+    for (const char* option : {"grains", "seed", "polydispersity", "mean-diameter"}) cli.conflicts(option, "input");
+    cli.needs("frame", "input");
+    cli.needs("width", "incline");
+    cli.needs("height", "incline");
+    cli.conflicts("packing-fraction", "incline");
+    cli.conflicts("tolerance", "incline");
+    cli.conflicts("input", "incline");
     if (!cli.parse(argc, argv)) return 0;
     const bool quiet = cli.flag_set("quiet");
     const bool incline = cli.flag_set("incline");
@@ -46,16 +63,20 @@ int main(int argc, char** argv) {
     if (incline) {
       InclineParams p;
       p.width = cli.real("width");
-      p.height = cli.real("height");
       p.grains = cli.given("grains") ? cli.integer("grains") : 0;
+      // With a grain count, the layer's thickness follows from it.
+      if (p.grains != 0) cli.not_applicable("height", "--grains");
+      p.height = cli.real("height");
       p.mean_diameter = cli.real("mean-diameter");
       p.polydispersity = cli.real("polydispersity");
       p.seed = std::uint64_t(seed);
       validate(p);
-      if (cli.given("input")) throw UsageError("--input cannot be combined with --incline");
+      io::Parameters parameters = io::provenance(cli);
       OutputFile out(cli.text("output"));
       packing = make_incline_packing(p);
-      write_packing(out.temp_path(), packing, io::provenance(cli));
+      // The count used, also when --height gave it.
+      parameters.set("grains", std::int64_t(std::count(packing.fixed.begin(), packing.fixed.end(), 0)));
+      write_packing(out.temp_path(), packing, parameters);
       out.commit();
     } else {
       PackingParams p;
@@ -84,11 +105,15 @@ int main(int argc, char** argv) {
       packing = cli.given("input") ? repack(start, p.packing_fraction, p.overlap_tolerance, report)
                                    : make_biperiodic_packing(p, report);
       bar.finish();
+      parameters.set("grains", std::int64_t(packing.radius.size()));
       write_packing(out.temp_path(), packing, parameters);
       out.commit();
     }
     if (!quiet) {
-      const double sigma = cli.real("mean-diameter");
+      // σ of the grains written (a repack keeps the input's sizes).
+      const double sigma = cli.given("input") ? 2 * std::accumulate(packing.radius.begin(), packing.radius.end(), 0.0) /
+                                                    double(packing.radius.size())
+                                              : cli.real("mean-diameter");
       std::fprintf(stderr, "gf-pack: %zu grains, ν = %.12f, max overlap = %.2e σ, %lld iterations, %.2f s -> %s\n",
                    packing.radius.size(), packing.packing_fraction, packing.max_overlap / sigma,
                    (long long)packing.iterations, packing.seconds, cli.text("output").c_str());

@@ -21,21 +21,29 @@ int main(int argc, char** argv) {
                     "steps (stress tensors, p, s, N1, T, strain, solver statistics), and a /run summary.\n"
                     "With --rate 0 it runs an equilibrium (cooling or elastic) gas started at --temperature.\n"
                     "Ctrl-C or SIGTERM writes a checkpoint; the same command with --resume continues bit for bit.");
-    cli.option("input", 'i', "FILE", "packing (gf-pack) or trajectory (gf-shear) to start from");
-    cli.option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
-    cli.option("output", 'o', "FILE", "trajectory to write");
-    cli.option("rate", 0, "GAMMADOT", "shear rate γ̇ (may be negative; 0 for an unsheared gas)", "1");
-    cli.option("strain", 0, "S", "total shear strain γ̇·t (ignored with --steps)", "10");
-    cli.option("steps", 0, "N", "number of time steps (overrides --strain; needed at --rate 0)");
-    cli.option("strain-step", 0, "DGAMMA", "|γ̇|·dt, the strain per step (ignored with --dt)", "1e-3");
-    cli.option("dt", 0, "DT", "time step (overrides --strain-step; at --rate 0 default 1e-3·σ/√T0)");
+    cli.text_option("input", 'i', "FILE", "packing (gf-pack) or trajectory (gf-shear) to start from");
+    cli.integer_option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
+    cli.text_option("output", 'o', "FILE", "trajectory to write");
+    cli.real_option("rate", 0, "GAMMADOT", "shear rate γ̇ (may be negative; 0 for an unsheared gas)", "1");
+    cli.real_option("strain", 0, "S", "total shear strain |γ̇|·t (not with --steps)", "10");
+    cli.integer_option("steps", 0, "N", "number of time steps (instead of --strain; needed at --rate 0)");
+    cli.real_option("strain-step", 0, "DGAMMA", "|γ̇|·dt, the strain per step (not with --dt or --rate 0)", "1e-3");
+    cli.real_option("dt", 0, "DT", "time step (instead of --strain-step; at --rate 0 default 1e-3·σ/√T0)");
     add_contact_options(cli);
-    cli.option("temperature", 0, "T0", "at --rate 0: granular temperature of the random start velocities", "0");
-    cli.option("seed", 0, "SEED", "random seed of the --temperature start", "1");
+    cli.real_option("temperature", 0, "T0", "only at --rate 0: granular temperature of the random start velocities",
+                    "0");
+    cli.integer_option("seed", 0, "SEED", "random seed of the --temperature start", "1");
     add_run_options(cli, "1");
+    // Options that would be ignored are refused (and not recorded).
+    cli.conflicts("strain", "steps");
+    cli.conflicts("strain-step", "dt");
     if (!cli.parse(argc, argv)) return 0;
 
     const double rate = cli.real("rate");
+    // The temperature start is for an unsheared gas; a sheared start has no strain step at
+    // rate 0. Decided before run_plan, which signs the options that apply.
+    if (rate != 0) cli.not_applicable("temperature", "--rate " + cli.text("rate"));
+    else cli.not_applicable("strain-step", "--rate 0");
     const Material material = material_option(cli);
     const SolverSettings settings = solver_option(cli);
     const double temperature = cli.real("temperature");
@@ -97,6 +105,9 @@ int main(int argc, char** argv) {
               parameters.set("mean_radius", mean_radius);
               parameters.set("mean_mass", mean_mass);
               parameters.set("dt", dt);
+              // As used, when --steps or --dt (or --rate 0) decided them.
+              if (!parameters.has("strain")) parameters.set("strain", std::fabs(rate) * dt * double(steps));
+              if (!parameters.has("strain-step")) parameters.set("strain-step", std::fabs(rate) * dt);
               parameters.set("grains", std::int64_t(g.size()));
               parameters.set("total_steps", std::int64_t(steps));
             },

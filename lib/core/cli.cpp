@@ -19,6 +19,45 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// Terminal columns of UTF-8 text: one per code point (continuation bytes do not count).
+std::size_t columns(const std::string& s) {
+  std::size_t n = 0;
+  for (unsigned char c : s) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+// text with its lines broken at spaces to at most `width` columns, the first line indented
+// by first_indent and the others by indent; each explicit '\n' starts a new line.
+std::string wrap(const std::string& text, std::size_t first_indent, std::size_t indent,
+                 std::size_t width = CommandLine::kHelpWidth) {
+  std::string out;
+  std::size_t margin = first_indent;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = text.find('\n', start);
+    // Words, a word starting with "-" kept behind the word before it, so that no
+    // continuation line reads like an option line ("      --name").
+    std::vector<std::string> units;
+    std::istringstream words(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    for (std::string word; words >> word;) {
+      if (!units.empty() && word[0] == '-') units.back() += " " + word;
+      else units.push_back(word);
+    }
+    std::string line;
+    for (const auto& unit : units) {
+      if (!line.empty() && margin + columns(line) + 1 + columns(unit) > width) {
+        out += std::string(margin, ' ') + line + "\n";
+        margin = indent;
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + unit;
+    }
+    out += (line.empty() ? std::string() : std::string(margin, ' ') + line) + "\n";
+    margin = indent;
+    if (end == std::string::npos) return out;
+    start = end + 1;
+  }
+}
+
 std::string format_real(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -33,13 +72,60 @@ CommandLine::CommandLine(std::string program, std::string synopsis, std::string 
   flag("quiet", 'q', "no progress bar or report on stderr (errors are still printed)");
 }
 
-void CommandLine::option(const std::string& name, char short_name, const std::string& value_name,
-                         const std::string& help, const std::string& default_value) {
-  specs_.push_back({name, short_name, value_name, help, default_value, false, std::nullopt});
+void CommandLine::declare(const std::string& name, char short_name, const std::string& value_name,
+                          const std::string& help, const std::string& default_value, OptionKind kind) {
+  for (const auto& s : specs_)
+    if (s.name == name || (short_name && s.short_name == short_name))
+      throw std::logic_error("option --" + name + " declared twice");
+  specs_.push_back({name, short_name, value_name, help, default_value, kind, std::nullopt});
 }
 
+void CommandLine::real_option(const std::string& name, char short_name, const std::string& value_name,
+                              const std::string& help, const std::string& default_value) {
+  declare(name, short_name, value_name, help, default_value, OptionKind::real);
+}
+void CommandLine::integer_option(const std::string& name, char short_name, const std::string& value_name,
+                                 const std::string& help, const std::string& default_value) {
+  declare(name, short_name, value_name, help, default_value, OptionKind::integer);
+}
+void CommandLine::text_option(const std::string& name, char short_name, const std::string& value_name,
+                              const std::string& help, const std::string& default_value) {
+  declare(name, short_name, value_name, help, default_value, OptionKind::text);
+}
 void CommandLine::flag(const std::string& name, char short_name, const std::string& help) {
-  specs_.push_back({name, short_name, "", help, "", true, std::nullopt});
+  declare(name, short_name, "", help, "", OptionKind::flag);
+}
+
+// find() throws std::logic_error for a name never declared.
+void CommandLine::conflicts(const std::string& option, const std::string& other) {
+  (void)find(option);
+  (void)find(other);
+  conflicts_.emplace_back(option, other);
+}
+void CommandLine::needs(const std::string& option, const std::string& other) {
+  (void)find(option);
+  (void)find(other);
+  needs_.emplace_back(option, other);
+}
+
+void CommandLine::not_applicable(const std::string& name, const std::string& reason) {
+  Spec* s = find_long(name);
+  if (!s) throw std::logic_error("option --" + name + " was never declared");
+  if (s->value) throw UsageError("option --" + name + " cannot be combined with " + reason);
+  s->applies = false;
+}
+
+void CommandLine::check_relations() {
+  for (const auto& [option, other] : conflicts_) {
+    if (!given(other)) continue;
+    if (given(option)) throw UsageError("option --" + option + " cannot be combined with --" + other);
+    find_long(option)->applies = false;
+  }
+  for (const auto& [option, other] : needs_) {
+    if (given(other)) continue;
+    if (given(option)) throw UsageError("option --" + option + " needs --" + other);
+    find_long(option)->applies = false;
+  }
 }
 
 void CommandLine::positionals(const std::string& value_name, const std::string& help, std::size_t min_count) {
@@ -96,7 +182,7 @@ bool CommandLine::parse(int argc, const char* const* argv) {
       spec = find_short(arg[1]);
       if (!spec) throw UsageError("unknown option '" + arg + "' (see --help)");
     }
-    if (spec->is_flag) {
+    if (spec->kind == OptionKind::flag) {
       if (inline_value) throw UsageError("option --" + spec->name + " takes no value");
       spec->value = "1";
     } else if (inline_value) {
@@ -115,6 +201,7 @@ bool CommandLine::parse(int argc, const char* const* argv) {
     return false;
   }
   if (positional_.size() < positional_min_) throw UsageError("missing " + positional_name_ + " argument (see --help)");
+  check_relations();
   return true;
 }
 
@@ -123,16 +210,30 @@ bool CommandLine::has(const std::string& name) const {
   return s->value.has_value() || !s->default_value.empty();
 }
 bool CommandLine::given(const std::string& name) const { return find(name)->value.has_value(); }
-bool CommandLine::flag_set(const std::string& name) const { return find(name)->value.has_value(); }
+bool CommandLine::flag_set(const std::string& name) const {
+  return find_of_kind(name, OptionKind::flag)->value.has_value();
+}
+OptionKind CommandLine::kind(const std::string& name) const { return find(name)->kind; }
+
+const CommandLine::Spec* CommandLine::find_of_kind(const std::string& name, OptionKind kind) const {
+  static const char* const names[] = {"flag", "real", "integer", "text"};
+  const Spec* s = find(name);
+  if (s->kind != kind)
+    throw std::logic_error("option --" + name + " is declared " + names[int(s->kind)] + ", read as " +
+                           names[int(kind)]);
+  return s;
+}
 
 std::string CommandLine::text(const std::string& name) const {
   const Spec* s = find(name);
+  if (s->kind == OptionKind::flag) throw std::logic_error("option --" + name + " is a flag, read as text");
   if (s->value) return *s->value;
   if (!s->default_value.empty()) return s->default_value;
   throw UsageError("option --" + name + " is required (see --help)");
 }
 
 double CommandLine::real(const std::string& name) const {
+  find_of_kind(name, OptionKind::real);
   std::string t = text(name);
   double v = 0;
   auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
@@ -142,6 +243,7 @@ double CommandLine::real(const std::string& name) const {
 }
 
 long long CommandLine::integer(const std::string& name) const {
+  find_of_kind(name, OptionKind::integer);
   std::string t = text(name);
   long long v = 0;
   auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
@@ -160,8 +262,8 @@ long long CommandLine::integer(const std::string& name) const {
 std::vector<std::pair<std::string, std::string>> CommandLine::values() const {
   std::vector<std::pair<std::string, std::string>> out;
   for (auto& s : specs_) {
-    if (s.name == "help" || s.name == "version" || s.name == "quiet") continue;
-    if (s.is_flag) out.emplace_back(s.name, s.value ? "1" : "0");
+    if (s.name == "help" || s.name == "version" || s.name == "quiet" || !s.applies) continue;
+    if (s.kind == OptionKind::flag) out.emplace_back(s.name, s.value ? "1" : "0");
     else if (s.value) out.emplace_back(s.name, *s.value);
     else if (!s.default_value.empty()) out.emplace_back(s.name, s.default_value);
   }
@@ -170,19 +272,21 @@ std::vector<std::pair<std::string, std::string>> CommandLine::values() const {
 
 std::string CommandLine::help() const {
   std::ostringstream o;
-  o << "Usage: " << program_ << " " << synopsis_ << "\n\n" << description_ << "\n\n";
-  if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n      " << positional_help_ << "\n\n";
+  o << wrap("Usage: " + program_ + " " + synopsis_, 0, 7) << "\n" << wrap(description_, 0, 0) << "\n";
+  if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n" << wrap(positional_help_, 6, 6) << "\n";
   o << "Options:\n";
   for (auto& s : specs_) {
     std::string head = "  ";
     head += s.short_name ? std::string("-") + s.short_name + ", " : "    ";
     head += "--" + s.name;
-    if (!s.is_flag) head += " <" + s.value_name + ">";
-    o << head << "\n      " << s.help;
-    if (!s.is_flag && !s.default_value.empty()) o << " [default: " << s.default_value << "]";
-    o << "\n";
+    std::string text = s.help;
+    if (s.kind != OptionKind::flag) {
+      head += " <" + s.value_name + ">";
+      if (!s.default_value.empty()) text += " [default: " + s.default_value + "]";
+    }
+    o << head << "\n" << wrap(text, 6, 6);
   }
-  o << "\nExit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input.\n";
+  o << "\n" << wrap("Exit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input.", 0, 0);
   return o.str();
 }
 

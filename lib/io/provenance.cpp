@@ -1,7 +1,5 @@
 #include "io/provenance.hpp"
 
-#include <charconv>
-#include <cmath>
 #include <variant>
 
 #include "core/sha256.hpp"
@@ -12,12 +10,12 @@ namespace granflow::io {
 Parameters provenance(const CommandLine& cli) {
   Parameters p;
   for (const auto& [name, text] : cli.values()) {
-    std::int64_t i = 0;
-    double d = 0;
-    const char* end = text.data() + text.size();
-    if (auto r = std::from_chars(text.data(), end, i); r.ec == std::errc() && r.ptr == end) p.set(name, i);
-    else if (auto r2 = std::from_chars(text.data(), end, d); r2.ec == std::errc() && r2.ptr == end) p.set(name, d);
-    else p.set(name, text);
+    switch (cli.kind(name)) {
+      case OptionKind::flag: p.set(name, std::int64_t(text == "1")); break;
+      case OptionKind::integer: p.set(name, std::int64_t(cli.integer(name))); break;
+      case OptionKind::real: p.set(name, cli.real(name)); break;
+      case OptionKind::text: p.set(name, text); break;
+    }
   }
   p.set("command_line", cli.command_line());
   p.set("program", cli.program());
@@ -37,8 +35,9 @@ void add_input_frame(Parameters& parameters, const TrajectoryReader& input, std:
   parameters.set("input_step", step);
   parameters.set("input_time", time);
   const Parameters parent = input.parameters();
+  // The parent's attribute names, options under their command-line names.
   for (const char* name :
-       {"program", "angle", "friction", "restitution", "tangential_restitution", "rate", "input", "input_sha256"}) {
+       {"program", "angle", "friction", "restitution", "tangential-restitution", "rate", "input", "input_sha256"}) {
     if (!parent.has(name)) continue;
     std::visit([&](const auto& value) { parameters.set(std::string("parent_") + name, value); },
                parent.items().at(name));

@@ -9,8 +9,9 @@
 
 namespace granflow::io {
 
-// Every option of cli (given or defaulted) as an attribute — whole numbers as int64,
-// other numbers as double, the rest as strings — plus command_line, program, version.
+// Every option of cli that applies to the run (given or defaulted; CommandLine::values())
+// as an attribute of its declared kind — integers and flags (0/1) as int64, reals as double
+// whatever was typed, text as strings — plus command_line, program, version.
 Parameters provenance(const CommandLine& cli);
 
 // Records an input file: input (path) and input_sha256; the k-th extra input of a
@@ -20,8 +21,9 @@ void add_input(Parameters& parameters, const std::string& path, int index = 0, c
 
 // Records which stored frame of the input a run starts from (a branch from another run's
 // trajectory): input_frame (index), input_step, input_time, and the parent run's own
-// program, angle, friction, restitution, tangential_restitution, rate, input and
-// input_sha256 when its /parameters has them, as parent_<name> — so a branched run names
+// program, angle, friction, restitution, tangential-restitution, rate, input and
+// input_sha256 when its /parameters has them, as parent_<name> with <name> the parent's
+// own attribute name — so a branched run names
 // its parent's physics (and the grandparent file) without opening the parent.
 void add_input_frame(Parameters& parameters, const TrajectoryReader& input, std::size_t index, std::int64_t step,
                      double time);

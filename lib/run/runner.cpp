@@ -15,21 +15,23 @@
 namespace granflow {
 
 void add_contact_options(CommandLine& cli) {
-  cli.option("restitution", 0, "E", "normal restitution e in [0, 1]", "0.5");
-  cli.option("tangential-restitution", 0, "ET", "tangential restitution e_t in [-1, 1] (eq. 4.1)", "0");
-  cli.option("friction", 0, "MU",
-             "Coulomb friction coefficient μ ≥ 0; the solver is validated for μ ≤ 0.4 (tests and sweeps): much "
-             "higher μ at high density may not converge (see --max-unconverged)",
-             "0");
-  cli.option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
-  cli.option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged", "10000");
-  cli.option("max-unconverged", 0, "F",
-             "largest share of the steps that may end unconverged (at --max-iterations); one more stops the run "
-             "with exit code 1 and no output",
-             "0.01");
-  cli.option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
-  cli.option("threads", 0, "N",
-             "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
+  cli.real_option("restitution", 0, "E", "normal restitution e in [0, 1]", "0.5");
+  cli.real_option("tangential-restitution", 0, "ET", "tangential restitution e_t in [-1, 1] (eq. 4.1)", "0");
+  cli.real_option("friction", 0, "MU",
+                  "Coulomb friction coefficient μ ≥ 0; the solver is validated for μ ≤ 0.4 (tests and sweeps): much "
+                  "higher μ at high density may not converge (see --max-unconverged)",
+                  "0");
+  cli.real_option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
+  cli.integer_option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged",
+                     "10000");
+  cli.real_option("max-unconverged", 0, "F",
+                  "largest share of the steps that may end unconverged (at --max-iterations); one more stops the run "
+                  "with exit code 1 and no output",
+                  "0.01");
+  cli.real_option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
+  cli.integer_option(
+      "threads", 0, "N",
+      "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
 }
 
 Material material_option(const CommandLine& cli) {
@@ -58,9 +60,9 @@ SolverSettings solver_option(const CommandLine& cli) {
 }
 
 void add_run_options(CommandLine& cli, const std::string& observe_every) {
-  cli.option("frame-every", 0, "N", "steps between stored frames; 0 = 100 frames per run", "0");
-  cli.option("observe-every", 0, "N", "steps between observable rows", observe_every);
-  cli.option("checkpoint-every", 0, "SECONDS", "wall time between checkpoints (0: only on a signal)", "600");
+  cli.integer_option("frame-every", 0, "N", "steps between stored frames; 0 = 100 frames per run", "0");
+  cli.integer_option("observe-every", 0, "N", "steps between observable rows", observe_every);
+  cli.real_option("checkpoint-every", 0, "SECONDS", "wall time between checkpoints (0: only on a signal)", "600");
   cli.flag("resume", 0, "continue from the checkpoint of an interrupted run of the same command, if any");
 }
 

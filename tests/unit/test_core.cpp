@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "core/cli.hpp"
 #include "core/error.hpp"
@@ -15,8 +16,8 @@ using namespace granflow;
 namespace {
 CommandLine make_cli() {
   CommandLine cli("gf-test", "[options]", "test program");
-  cli.option("grains", 'n', "N", "number of grains", "100");
-  cli.option("rate", 0, "RATE", "shear rate");
+  cli.integer_option("grains", 'n', "N", "number of grains", "100");
+  cli.real_option("rate", 0, "RATE", "shear rate");
   cli.flag("incline", 0, "incline mode");
   return cli;
 }
@@ -70,6 +71,101 @@ TEST(CoreCli, HelpListsEveryOptionWithDefault) {
   for (const char* name : {"--grains", "--rate", "--incline", "--help", "--version", "--quiet"})
     EXPECT_NE(h.find(name), std::string::npos) << name;
   EXPECT_NE(h.find("[default: 100]"), std::string::npos);
+}
+
+TEST(CoreCli, ReadingAnotherKindIsAProgrammingError) {
+  auto cli = make_cli();
+  ASSERT_TRUE(parse(cli, {"--rate", "2", "--incline"}));
+  EXPECT_THROW(cli.real("grains"), std::logic_error);
+  EXPECT_THROW(cli.integer("rate"), std::logic_error);
+  EXPECT_THROW(cli.flag_set("rate"), std::logic_error);
+  EXPECT_THROW(cli.text("incline"), std::logic_error);
+  EXPECT_EQ(cli.text("rate"), "2");  // the typed form of a number
+  EXPECT_EQ(cli.kind("rate"), OptionKind::real);
+  EXPECT_EQ(cli.kind("grains"), OptionKind::integer);
+  EXPECT_EQ(cli.kind("incline"), OptionKind::flag);
+  CommandLine twice("gf-test", "", "");
+  twice.real_option("rate", 0, "R", "rate");
+  EXPECT_THROW(twice.integer_option("rate", 0, "R", "rate"), std::logic_error);
+}
+
+namespace {
+CommandLine related_cli() {
+  CommandLine cli = make_cli();
+  cli.text_option("input", 'i', "FILE", "input");
+  cli.real_option("width", 0, "W", "incline width", "40");
+  cli.conflicts("grains", "input");
+  cli.needs("width", "incline");
+  return cli;
+}
+std::string usage_error(CommandLine& cli, std::vector<const char*> args) {
+  try {
+    parse(cli, std::move(args));
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+bool has_value(const CommandLine& cli, const std::string& name) {
+  for (const auto& [n, v] : cli.values())
+    if (n == name) return true;
+  return false;
+}
+}  // namespace
+
+TEST(CoreCli, OptionsThatCannotApplyAreRefusedNamingBoth) {
+  auto a = related_cli();
+  EXPECT_EQ(usage_error(a, {"-n", "5", "-i", "x.h5"}), "option --grains cannot be combined with --input");
+  auto b = related_cli();
+  EXPECT_EQ(usage_error(b, {"--width", "5"}), "option --width needs --incline");
+  auto c = related_cli();
+  ASSERT_TRUE(parse(c, {"--width", "5", "--incline", "-n", "3"}));
+  EXPECT_TRUE(has_value(c, "width"));
+  EXPECT_TRUE(has_value(c, "grains"));
+  // A default never conflicts, and an option that does not apply is not a value of the run.
+  auto d = related_cli();
+  ASSERT_TRUE(parse(d, {"-i", "x.h5"}));
+  EXPECT_FALSE(has_value(d, "grains"));
+  EXPECT_FALSE(has_value(d, "width"));
+  EXPECT_EQ(d.integer("grains"), 100);
+  auto e = related_cli();
+  ASSERT_TRUE(parse(e, {"--rate", "1"}));
+  e.not_applicable("grains", "--rate 1");
+  EXPECT_FALSE(has_value(e, "grains"));
+  auto f = related_cli();
+  ASSERT_TRUE(parse(f, {"--rate", "1", "-n", "4"}));
+  try {
+    f.not_applicable("grains", "--rate 1");
+    FAIL() << "a given option that does not apply was accepted";
+  } catch (const UsageError& err) {
+    EXPECT_EQ(std::string(err.what()), "option --grains cannot be combined with --rate 1");
+  }
+}
+
+TEST(CoreCli, HelpIsWrappedToOneHundredColumns) {
+  CommandLine cli("gf-test", "[options]", "A description\nof two lines.");
+  std::string words;
+  for (int k = 0; k < 60; ++k) words += "γ̇σθ word ";
+  cli.real_option("long", 0, "X", words + "see --other-option for more\nthen a line of its own", "1");
+  cli.flag("other-option", 0, "short");
+  const std::string h = cli.help();
+  EXPECT_NE(h.find("A description\nof two lines.\n"), std::string::npos);
+  EXPECT_NE(h.find("\n      then a line of its own [default: 1]\n"), std::string::npos);
+  int lines_of_long = 0;
+  std::size_t start = 0;
+  for (std::size_t end; (end = h.find('\n', start)) != std::string::npos; start = end + 1) {
+    const std::string line = h.substr(start, end - start);
+    std::size_t columns = 0;
+    for (unsigned char ch : line) columns += (ch & 0xC0) != 0x80;
+    EXPECT_LE(columns, CommandLine::kHelpWidth) << line;
+    // No continuation line starts like an option line: those are the options' own.
+    if (line.rfind("      --", 0) == 0 && line != "      --version" && line != "      --long <X>" &&
+        line != "      --other-option")
+      ADD_FAILURE() << line;
+    if (line.find("word") != std::string::npos) ++lines_of_long;
+  }
+  EXPECT_GT(lines_of_long, 5);
+  EXPECT_NE(h.find("  --other-option\n"), std::string::npos);
 }
 
 TEST(CoreCli, CommandLineIsShellQuoted) {

@@ -61,8 +61,8 @@ const Material kMaterial{0.5, 0.2, 0.4};
 // The run options of gf-shear and gf-incline on a small program's command line.
 CommandLine run_cli(const std::string& output, std::vector<std::string> args) {
   CommandLine cli("gf-test", "[options]", "lib/run test");
-  cli.option("output", 'o', "FILE", "trajectory to write");
-  cli.option("steps", 0, "N", "steps", "60");
+  cli.text_option("output", 'o', "FILE", "trajectory to write");
+  cli.integer_option("steps", 0, "N", "steps", "60");
   add_contact_options(cli);
   add_run_options(cli, "1");
   args.insert(args.begin(), {"gf-test", "-o", output, "--quiet"});
