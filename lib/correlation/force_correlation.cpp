@@ -238,11 +238,11 @@ LoadedGrains loaded_grains(const io::Frame& frame) {
   for (std::size_t k = 0; k < c.size(); ++k) {
     const auto [i, j] = c.pair[k];
     if (i < 0 || j < 0 || std::size_t(i) >= n || std::size_t(j) >= n || i == j)
-      throw UsageError("contact " + std::to_string(k) + " joins grains (" + std::to_string(i) + ", " +
+      throw UsageError("/contacts/pair: contact " + std::to_string(k) + " joins grains (" + std::to_string(i) + ", " +
                        std::to_string(j) + "), not two distinct grains of " + std::to_string(n));
     const double length = c.branch[k].norm();
     if (!(length > 0) || !std::isfinite(length))
-      throw UsageError("contact " + std::to_string(k) + " has a zero or non-finite branch vector");
+      throw UsageError("/contacts/branch: contact " + std::to_string(k) + " has a zero or non-finite branch vector");
     const Vec2 normal = c.branch[k] / length;
     const Vec2 f = c.normal_force[k] * normal + c.tangential_force[k] * perp(normal);
     force[i] += f;
