@@ -9,6 +9,7 @@
 #include "core/output_file.hpp"
 #include "core/tool.hpp"
 #include "correlation/analysis.hpp"
+#include "correlation/force_distribution.hpp"
 #include "correlation/report.hpp"
 #include "io/provenance.hpp"
 
@@ -128,6 +129,7 @@ int main(int argc, char** argv) {
     require_positive("kde-bandwidth", s.kde_bandwidth);
     if (!(s.force_max >= 4 * s.kde_bandwidth))
       throw UsageError("option --kde-bandwidth: must be at most --force-max/4 (the peak test compares f = 0 and 3h)");
+    correlation::check_force_bins(s.force_bin_width, s.force_max, s.kde_bandwidth);
     s.bootstrap = whole(cli, "bootstrap", 0);
     const long long seed = cli.integer("seed");
     if (seed < 0) throw UsageError("option --seed: must be >= 0");

@@ -243,11 +243,16 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
   report.settings.map_bin = report.grid.map_bin;
 
   if (settings.clusters_window > 0)
-    for (const Run& r : report.runs)
-      if (r.reader.frame_index(settings.clusters_frame) + 1 < std::size_t(settings.clusters_window))
+    for (const Run& r : report.runs) {
+      const long long frames = (long long)r.reader.frame_count(), k = settings.clusters_frame;
+      if (k >= frames || k < -frames)
+        throw UsageError("option --clusters-frame " + std::to_string(k) + ": out of range, '" + r.path + "' has " +
+                         std::to_string(frames) + " frame(s)");
+      if (r.reader.frame_index(k) + 1 < std::size_t(settings.clusters_window))
         throw UsageError("option --clusters-window: '" + r.path + "' has fewer than " +
                          std::to_string(settings.clusters_window) + " frames up to --clusters-frame " +
                          std::to_string(settings.clusters_frame));
+    }
 
   double total_frames = 0, done_frames = 0;
   for (const auto* list : {&report.runs, &report.references})

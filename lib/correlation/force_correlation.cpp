@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -12,6 +13,12 @@
 namespace granflow::correlation {
 
 namespace {
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -213,18 +220,28 @@ LagGrid LagGrid::make(double bin_width, double max_lag, int angle_bins, double m
   if (angle_bins < 3 || angle_bins > 3600) throw UsageError("option --angle-bins: must be in [3, 3600]");
   if (!(map_bin > 0)) throw UsageError("option --map-bin: must be > 0");
   if (coarse < 1) throw UsageError("option --abs-bin-width: must be a positive multiple of --bin-width");
+  // Counts in double first: a tiny width must be refused, not overflow an int.
+  const double radial = std::floor(max_lag / bin_width + 1e-9);
+  if (radial > kMaxRadialBins)
+    throw UsageError("option --bin-width: " + number(bin_width) + " gives " + number(radial) +
+                     " radial bins up to --max-lag " + number(max_lag) + "; use at most " + number(kMaxRadialBins));
+  const double coarse_bins = std::ceil(radial / coarse);
+  if (angle_bins * coarse_bins > kMaxSectorBins)
+    throw UsageError("option --abs-bin-width: " + number(coarse * bin_width) + " gives " + number(coarse_bins) +
+                     " coarse bins in each of the " + std::to_string(angle_bins) + " --angle-bins, " +
+                     number(angle_bins * coarse_bins) + " in all; use at most " + number(kMaxSectorBins));
+  const double map_half = std::ceil(radial * bin_width / map_bin - 1e-9);
+  if (2 * map_half > kMaxMapSide)
+    throw UsageError("option --map-bin: " + number(map_bin) + " gives a map of " + number(2 * map_half) +
+                     "² bins for --max-lag " + number(radial * bin_width) + "; use at most " + number(kMaxMapSide) +
+                     " bins per axis");
   LagGrid g;
   g.coarse = coarse;
   g.bin_width = bin_width;
-  g.radial_bins = int(std::floor(max_lag / bin_width + 1e-9));
+  g.radial_bins = int(radial);
   g.angle_bins = angle_bins;
   g.map_bin = map_bin;
-  g.map_half = int(std::ceil(g.max_lag() / map_bin - 1e-9));
-  // A map of more than 2000 × 2000 bins is a mistake, not a measurement (32 MB per run).
-  if (g.map_side() > 2000)
-    throw UsageError("option --map-bin: " + std::to_string(map_bin) + " gives a map of " +
-                     std::to_string(g.map_side()) + "² bins for --max-lag " + std::to_string(g.max_lag()) +
-                     "; use at most 2000 bins per axis");
+  g.map_half = int(map_half);
   return g;
 }
 
@@ -238,11 +255,11 @@ LoadedGrains loaded_grains(const io::Frame& frame) {
   for (std::size_t k = 0; k < c.size(); ++k) {
     const auto [i, j] = c.pair[k];
     if (i < 0 || j < 0 || std::size_t(i) >= n || std::size_t(j) >= n || i == j)
-      throw UsageError("contact " + std::to_string(k) + " joins grains (" + std::to_string(i) + ", " +
+      throw UsageError("/contacts/pair: contact " + std::to_string(k) + " joins grains (" + std::to_string(i) + ", " +
                        std::to_string(j) + "), not two distinct grains of " + std::to_string(n));
     const double length = c.branch[k].norm();
     if (!(length > 0) || !std::isfinite(length))
-      throw UsageError("contact " + std::to_string(k) + " has a zero or non-finite branch vector");
+      throw UsageError("/contacts/branch: contact " + std::to_string(k) + " has a zero or non-finite branch vector");
     const Vec2 normal = c.branch[k] / length;
     const Vec2 f = c.normal_force[k] * normal + c.tangential_force[k] * perp(normal);
     force[i] += f;

@@ -43,6 +43,13 @@
 
 namespace granflow::correlation {
 
+// Bounds on the tables an analysis allocates (per run, and per block of frames): larger
+// counts come from a mistyped width, not from a measurement, and would exhaust memory.
+inline constexpr double kMaxRadialBins = 1e5;  // radial bins of C(ℓ) (--bin-width, --max-lag)
+inline constexpr double kMaxSectorBins = 1e6;  // sectors × coarse radial bins (--angle-bins, --abs-bin-width)
+inline constexpr double kMaxMapSide = 2000;    // map bins per axis (--map-bin)
+inline constexpr double kMaxForceBins = 1e5;   // bins of P(f) and grid points of its density estimate
+
 // The binning shared by every frame and every run of one analysis.
 struct LagGrid {
   double bin_width = 0;  // radial bins [bΔ, (b+1)Δ)
@@ -52,7 +59,8 @@ struct LagGrid {
   int map_half = 0;      // the map spans [−map_half·h, map_half·h]² (2·map_half bins per axis)
   int coarse = 1;        // radial bins per coarse bin (ξ_|C|); the last coarse bin may be partial
 
-  // UsageError naming the option when a value is out of range (coarse < 1: --abs-bin-width).
+  // UsageError naming the option when a value is out of range (coarse < 1: --abs-bin-width)
+  // or gives more bins than the bounds above.
   static LagGrid make(double bin_width, double max_lag, int angle_bins, double map_bin, int coarse = 1);
   double max_lag() const { return radial_bins * bin_width; }
   int coarse_bins() const { return (radial_bins + coarse - 1) / coarse; }

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
+#include "core/error.hpp"
+#include "correlation/force_correlation.hpp"
 #include "statistics/bootstrap.hpp"
 
 namespace granflow::correlation {
@@ -59,6 +63,22 @@ class ReflectedKde {
 };
 
 }  // namespace
+
+void check_force_bins(double bin_width, double max_f, double bandwidth) {
+  auto number = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  const double bins = std::floor(max_f / bin_width + 1e-9), cells = std::floor(max_f / (bandwidth / 10));
+  if (!(bins <= kMaxForceBins))
+    throw UsageError("option --force-bin-width: " + number(bin_width) + " gives " + number(bins) +
+                     " bins of P(f) up to --force-max " + number(max_f) + "; use at most " + number(kMaxForceBins));
+  if (!(cells <= kMaxForceBins))
+    throw UsageError("option --kde-bandwidth: " + number(bandwidth) + " gives " + number(cells) +
+                     " grid points of the density estimate (10 per bandwidth) up to --force-max " + number(max_f) +
+                     "; use at most " + number(kMaxForceBins));
+}
 
 Distribution force_distribution(const BlockSamples& blocks, double bin_width, double max_f) {
   const int bins = std::max(1, int(std::floor(max_f / bin_width + 1e-9)));

@@ -43,6 +43,10 @@ struct Distribution {
 // only. Density NaN when there are no samples or ⟨F⟩ = 0.
 Distribution force_distribution(const BlockSamples& blocks, double bin_width, double max_f);
 
+// UsageError naming --force-bin-width or --kde-bandwidth when P(f)'s bins up to max_f, or
+// the grid of the density estimate (10 points per bandwidth), would exceed kMaxForceBins.
+void check_force_bins(double bin_width, double max_f, double bandwidth);
+
 struct PeakDecision {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   int peak = -1;             // 1: P̂ rises from f = 0 (a peak at f > 0); 0: it falls; −1: no data

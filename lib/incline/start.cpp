@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "packing/start_check.hpp"
 #include "run/frames.hpp"
 
 namespace granflow {
@@ -27,7 +28,10 @@ InclineStart incline_start(const io::TrajectoryReader& input, long long frame_in
   start.frame_time = frame.time;
   start.grains = grains_of(frame, input.grains());
   start.box = frame.box;
-  if (frame.has_contacts) start.contacts = frame.contacts;
+  if (frame.has_contacts) {
+    check_start_contacts(path, index, frame.contacts);
+    start.contacts = frame.contacts;
+  }
   const GrainState& g = start.grains;
   double radius = 0, mass = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
@@ -45,6 +49,8 @@ InclineStart incline_start(const io::TrajectoryReader& input, long long frame_in
                          " lies outside the layer [0, " + std::to_string(start.box.ly) + "]");
     }
   }
+  require_run_contacts(input);
+  check_start_grains(path, index, start.box, g.position, g.radius);
   const std::size_t mobile = g.size() - start.base_grains;
   if (start.base_grains == 0) throw UsageError("'" + path + "' has no fixed base grains (use gf-pack --incline)");
   if (mobile == 0) throw UsageError("'" + path + "' has no mobile grains");

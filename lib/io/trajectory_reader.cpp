@@ -1,6 +1,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "io/frame_check.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/schema.hpp"
 #include "io/trajectory.hpp"
@@ -99,6 +100,7 @@ struct TrajectoryReader::Impl {
     b.offset = e[2];
     b.ly = e[3];
     b.periodic_y = periodic_y;
+    if (std::string problem = box_problem(b, k); !problem.empty()) bad(problem);
     return b;
   }
 
@@ -163,6 +165,7 @@ GrainProperties TrajectoryReader::grains() const {
     g.radius = impl_->read<double>(schema::kGrains + "/radius");
     g.mass = impl_->read<double>(schema::kGrains + "/mass");
     g.fixed = impl_->read<std::uint8_t>(schema::kGrains + "/fixed");
+    if (std::string problem = grains_problem(g); !problem.empty()) impl_->bad(problem);
     return g;
   });
 }
@@ -196,14 +199,17 @@ Frame TrajectoryReader::frame(std::size_t k) const {
     read_frame(schema::kAngularVelocity, f.angular_velocity.data());
 
     f.has_contacts = impl_->contacts;
+    std::int64_t first = 0;
     if (f.has_contacts) {
-      std::int64_t first = impl_->frame_rows(k), rows = impl_->frame_rows(k + 1) - first;
+      first = impl_->frame_rows(k);
+      const std::int64_t rows = impl_->frame_rows(k + 1) - first;
       for (const auto& column : schema::contact_columns()) {
         Dataset dataset = open_dataset(file, schema::kContacts + "/" + column.name);
         read_rows(dataset.get(), hsize_t(first), hsize_t(rows), column.mem_type,
                   column.resize(f.contacts, std::size_t(rows)));
       }
     }
+    if (std::string problem = frame_problem(f, k, n, first); !problem.empty()) impl_->bad(problem);
     return f;
   });
 }

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/version.hpp"
 #include "io/extendible_dataset.hpp"
+#include "io/frame_check.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/schema.hpp"
 #include "io/trajectory.hpp"
@@ -193,6 +194,9 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
                          ", mass " + std::to_string(grains.mass.size()) + ", fixed " +
                          std::to_string(grains.fixed.size()) + ")");
 
+  if (std::string problem = grains_problem(grains); !problem.empty())
+    throw RuntimeFailure("'" + path + "': refusing to write " + problem);
+
   create_group(file, schema::kParticles);
   Group group = create_group(file, schema::kGrains);
   write_dataset(group.get(), "radius", {n}, grains.radius.data());
@@ -251,6 +255,9 @@ void TrajectoryWriter::append_frame(const Frame& frame) {
   }
 
   std::size_t frames_before = c.elements.front().value.rows();
+  if (std::string problem = frame_problem(frame, frames_before, c.grains, c.contacts ? c.contacts->rows : 0);
+      !problem.empty())
+    throw RuntimeFailure("'" + path + "': refusing to write " + problem);
   const double edges[4] = {frame.box.lx, 0.0, frame.box.offset, frame.box.ly};
   // One frame of each element, in schema::frame_elements() order.
   const double* values[] = {frame.position.data()->data(),

@@ -2,6 +2,10 @@
 
 #include <cmath>
 
+#include "core/error.hpp"
+#include "io/frame_check.hpp"
+#include "packing/start_check.hpp"
+
 namespace granflow {
 
 void write_packing(const std::string& path, const Packing& packing, const io::Parameters& parameters) {
@@ -19,6 +23,14 @@ void write_packing(const std::string& path, const Packing& packing, const io::Pa
   frame.orientation.assign(n, 0.0);
   frame.angular_velocity.assign(n, 0.0);
 
+  // Checked before the file is created: a packing with a non-finite number is never written.
+  std::string problem = io::grains_problem(grains);
+  if (problem.empty()) problem = io::frame_problem(frame, 0, n, 0);
+  if (problem.empty() && !(std::isfinite(packing.packing_fraction) && std::isfinite(packing.max_overlap)))
+    problem = "/observables: packing_fraction " + std::to_string(packing.packing_fraction) + " or max_overlap " +
+              std::to_string(packing.max_overlap) + " not finite";
+  if (!problem.empty()) throw RuntimeFailure("'" + path + "': refusing to write " + problem);
+
   io::TrajectoryWriter writer(path);
   writer.write_parameters(parameters);
   writer.write_grains(grains, packing.box);
@@ -31,8 +43,10 @@ void write_packing(const std::string& path, const Packing& packing, const io::Pa
 
 Packing read_packing(const std::string& path, long long frame_index) {
   io::TrajectoryReader reader(path);
-  io::Frame frame = reader.frame(reader.frame_index(frame_index));
+  const std::size_t index = reader.frame_index(frame_index);
+  io::Frame frame = reader.frame(index);
   io::GrainProperties grains = reader.grains();
+  check_start_grains(path, index, frame.box, frame.position, grains.radius);
   Packing p;
   p.box = frame.box;
   p.position = std::move(frame.position);

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/random.hpp"
+#include "packing/start_check.hpp"
 #include "run/frames.hpp"
 #include "shear/observables.hpp"
 
@@ -37,11 +38,14 @@ void thermalise(GrainState& s, const Box& box, double temperature, std::uint64_t
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index, double rate, double temperature,
                        std::uint64_t seed) {
   const std::string& path = input.path();
-  io::Frame frame = input.frame(input.frame_index(frame_index));
+  const std::size_t index = input.frame_index(frame_index);
+  io::Frame frame = input.frame(index);
   io::GrainProperties properties = input.grains();
   if (!frame.box.periodic_y) throw UsageError("'" + path + "' is an incline packing (box open in y): use gf-incline");
   for (auto f : properties.fixed)
     if (f) throw UsageError("'" + path + "' has fixed grains: simple shear needs a biperiodic packing");
+  require_run_contacts(input);
+  check_start_grains(path, index, frame.box, frame.position, properties.radius);
 
   ShearStart start;
   start.box = frame.box;
@@ -57,7 +61,10 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
     }
     return start;
   }
-  if (frame.has_contacts) start.contacts = frame.contacts;
+  if (frame.has_contacts) {
+    check_start_contacts(path, index, frame.contacts);
+    start.contacts = frame.contacts;
+  }
   const double source_rate = input.lees_edwards_rate();
   if (source_rate != rate) {
     if (source_rate == 0 || rate == 0)

@@ -346,6 +346,23 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"output_dir_missing", "{run} -o {out}/nodir/c.h5", "does not exist"}),
     bad_input_name);
 
+// Options that set the size of a table: a count beyond the documented bound is refused
+// naming the option and the count, before anything is allocated.
+INSTANTIATE_TEST_SUITE_P(
+    TableSizes, GfCorrelateBadInput,
+    ::testing::Values(
+        BadInput{"bin_width_tiny", "{run} -o {out} --bin-width 1e-9", "--bin-width"},
+        BadInput{"bin_width_small", "{run} -o {out} --bin-width 1e-7", "--bin-width"},
+        BadInput{"bin_width_above_bound", "{run} -o {out} --bin-width 1e-4", "radial bins"},
+        BadInput{"abs_bin_width_by_angle_bins",
+                 "{run} -o {out} --angle-bins 3600 --bin-width 0.01 --abs-bin-width 0.01", "--abs-bin-width"},
+        BadInput{"force_bin_width_tiny", "{run} -o {out} --force-bin-width 1e-9", "--force-bin-width"},
+        BadInput{"force_bin_width_above_bound", "{run} -o {out} --force-bin-width 1e-5", "--force-bin-width"},
+        BadInput{"kde_bandwidth_tiny", "{run} -o {out} --kde-bandwidth 1e-9", "--kde-bandwidth"},
+        BadInput{"clusters_frame_out_of_range", "{run} -o {out} --clusters-window 1 --clusters-frame 500",
+                 "--clusters-frame 500"}),
+    bad_input_name);
+
 TEST(GfCorrelateBadInput, NotHdf5AndOutputIsInput) {
   ScratchDir dir("correlate_bad_files");
   const std::string text = dir / "text.h5";
