@@ -116,7 +116,9 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const Ou
                   start.settings, start.dt, start.gravity);
     engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
     if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
-    return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};
+    io::TrajectoryWriter writer = reopen_output(*checkpoint, out);
+    writer.set_time_unit(plan.time_unit);
+    return StartedRun{std::move(engine), std::move(writer), checkpoint->stats};
   }
   Engine engine(start.grains, start.box, start.rate, start.material, start.settings, start.dt, start.gravity);
   engine.restore(0, memory_of(start.contacts));
@@ -124,6 +126,7 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, const Ou
   io::add_input(parameters, start.input_path);
   if (start.add_parameters) start.add_parameters(parameters);
   io::TrajectoryWriter writer(out.temp_path());
+  writer.set_time_unit(plan.time_unit);
   writer.write_parameters(parameters);
   writer.write_grains(properties_of(start.grains), start.box);
   if (start.box.periodic_y) writer.set_lees_edwards_rate(start.rate);
