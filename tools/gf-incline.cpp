@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     cli.option("input", 'i', "FILE", "incline packing (gf-pack --incline) or gf-incline trajectory to start from");
     cli.option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
     cli.option("output", 'o', "FILE", "trajectory to write");
-    cli.option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90)");
+    cli.option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90); below 1° a warning (radians meant?)");
     cli.option("gravity", 0, "G", "magnitude g of gravity > 0", "1");
     cli.option("time", 0, "T",
                "duration in units of τ (ignored with --steps); a layer 25 diameters thick at 12° (μ = 0) is steady "

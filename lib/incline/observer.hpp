@@ -45,12 +45,13 @@ std::vector<ProfileBlock> read_blocks(const io::TrajectoryReader& reader, const 
 // Constants of the run the analysis needs.
 struct InclineUnits {
   double dt = 0;
-  double tau = 0;  // √(⟨R⟩/g), in code time
-  // Step n's time in τ.
-  double time_of_step(std::int64_t step) const { return double(step) * dt / tau; }
+  double tau = 0;          // √(⟨R⟩/g), in code time
   double gravity = 0;      // g
   double mean_radius = 0;  // ⟨R⟩ of the mobile grains
   double mean_mass = 0;
+
+  // Step n's time in τ.
+  double time_of_step(std::int64_t step) const { return double(step) * dt / tau; }
 };
 
 struct ProfileAnalysis {

@@ -119,8 +119,8 @@ class ProfileAccumulator {
   ProfileAccumulator(ProfileGrid grid, std::int64_t block_steps);
 
   // Adds the state after step `step` (≥ 1) at `time` (in the unit the blocks keep:
-  // gf-incline's τ), the contacts of that step and its observables (incline_observables). Mobile grains must lie in [0,
-  // ly] (check_layer).
+  // gf-incline's τ), the contacts of that step and its observables
+  // (incline_observables). Mobile grains must lie in [0, ly] (check_layer).
   void add(std::int64_t step, double time, const GrainState& state, const ContactRecords& contacts,
            const InclineObservables& observables);
 
