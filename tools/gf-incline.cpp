@@ -19,9 +19,10 @@ int main(int argc, char** argv) {
     CommandLine cli("gf-incline", "-i INCLINE.h5 -o TRAJECTORY.h5 --angle THETA [options]",
                     "Lets rigid disks flow down a rough incline: a base of fixed grains along x (periodic) at y = 0,\n"
                     "tilted by θ, so that gravity is g(sin θ, −cos θ) in the frame of the base (x down the slope).\n"
-                    "Contact Dynamics as in gf-shear (restitution e, e_t, Coulomb friction μ; App. A). Time in\n"
-                    "units of τ = √(⟨R⟩/g), ⟨R⟩ the mobile grains' mean radius. Writes an H5MD trajectory: frames,\n"
-                    "observables (flow_rate, kinetic_energy, height, solver statistics), a /run summary, and\n"
+                    "Contact Dynamics as in gf-shear (restitution e, e_t, Coulomb friction μ; App. A). Times, in\n"
+                    "the options (but --dt), the output and on stderr, are in units of τ = √(⟨R⟩/g), ⟨R⟩ the\n"
+                    "mobile grains' mean radius. Writes an H5MD trajectory: frames, observables (flow_rate,\n"
+                    "kinetic_energy, height, solver statistics), a /run summary, and\n"
                     "/profiles: depth profiles of packing fraction, V_x, γ̇, T, stresses, the Bagnold invariants\n"
                     "and the weight above each layer, averaged over x and over the steady part of the run (found\n"
                     "by MSER truncation of flow_rate and kinetic_energy, or --from-time), with the time blocks\n"
@@ -31,7 +32,7 @@ int main(int argc, char** argv) {
     cli.text_option("input", 'i', "FILE", "incline packing (gf-pack --incline) or gf-incline trajectory to start from");
     cli.integer_option("frame", 0, "K", "frame of --input to start from; negative counts from the end", "-1");
     cli.text_option("output", 'o', "FILE", "trajectory to write");
-    cli.real_option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90)");
+    cli.real_option("angle", 0, "THETA", "incline angle θ in degrees, in (0, 90); below 1° a warning (radians meant?)");
     cli.real_option("gravity", 0, "G", "magnitude g of gravity > 0", "1");
     cli.real_option("time", 0, "T",
                     "duration in units of τ (not with --steps); a layer 25 diameters thick at 12° (μ = 0) is steady "
@@ -47,7 +48,9 @@ int main(int argc, char** argv) {
     add_contact_options(cli);
     cli.real_option("profile-bin", 0, "H", "thickness of the profile layers, in mean diameters of the mobile grains",
                     "3");
-    cli.integer_option("profile-block", 0, "N", "steps per time block of the profiles (sampled at every step)", "5000");
+    cli.integer_option("profile-block", 0, "N",
+                       "steps per time block of the profiles (sampled at every step); 0: automatic, min(5000, steps/20)",
+                       "0");
     cli.real_option("from-time", 0, "T", "average the profiles from this time (units of τ) instead of detecting it");
     add_run_options(cli, "10");
     // Options that would be ignored are refused (and not recorded).
@@ -67,8 +70,8 @@ int main(int argc, char** argv) {
     if (cli.given("steps") && cli.integer("steps") < 1) throw UsageError("option --steps: must be >= 1");
     const double bin = cli.real("profile-bin");
     require_positive("profile-bin", bin);
-    const long long block = cli.integer("profile-block");
-    if (block < 1) throw UsageError("option --profile-block: must be >= 1");
+    const long long block_option = cli.integer("profile-block");
+    if (block_option < 0) throw UsageError("option --profile-block: must be >= 1, or 0 for automatic");
     std::optional<double> from_tau;
     if (cli.given("from-time")) {
       from_tau = cli.real("from-time");
@@ -88,20 +91,23 @@ int main(int argc, char** argv) {
       require_positive("time", duration);
       steps = (long long)std::ceil(duration * tau / dt - 1e-9);
     }
-    if (steps < block)
-      throw UsageError("option --profile-block: " + std::to_string(block) + " steps is longer than the run (" +
+    if (steps < block_option)
+      throw UsageError("option --profile-block: " + std::to_string(block_option) + " steps is longer than the run (" +
                        std::to_string(steps) + " steps)");
-    const double last_block_start = double((steps - 1) / block * block) * dt;
-    if (from_tau && *from_tau * tau > last_block_start)
-      throw UsageError("option --from-time: " + std::to_string(*from_tau) + " τ is after the start of the last " +
-                       "profile block (" + std::to_string(last_block_start / tau) + " τ)");
-    set_length(plan, steps);
-
+    const long long block = block_option > 0 ? block_option : automatic_profile_block(steps);
     const InclineUnits units{dt, tau, g, start.mean_radius, start.mean_mass};
+    const double last_block_start = units.time_of_step((steps - 1) / block * block);
+    if (from_tau && *from_tau > last_block_start)
+      throw UsageError("option --from-time: " + std::to_string(*from_tau) + " τ is after the start of the last " +
+                       "profile block (" + std::to_string(last_block_start) + " τ)");
+    set_length(plan, steps);
+    // The files speak τ, as the options do.
+    plan.time_unit = {"tau", tau};
+
     const Vec2 gravity = incline_gravity(g, angle);
     ProfileAccumulator profiles(profile_grid(start.box, bin * 2 * start.mean_radius), block);
     const std::string kBlocks = "/profile_blocks";
-    plan.after_step = [&](const Engine& e) { sample_incline(e, profiles); };
+    plan.after_step = [&](const Engine& e) { sample_incline(e, profiles, plan.time_unit); };
     plan.checkpoint_extra = [&](io::TrajectoryWriter& w) { write_blocks(w, kBlocks, profiles); };
 
     const RunStart run_start{
@@ -117,6 +123,7 @@ int main(int argc, char** argv) {
         .add_parameters =
             [&](io::Parameters& parameters) {
               io::add_input_frame(parameters, input, start.frame_index, start.frame_step, start.frame_time);
+              parameters.set("input_time_unit", start.frame_time_unit);  // input_time is in the input's unit
               parameters.set("mean_radius", start.mean_radius);
               parameters.set("mean_mass", start.mean_mass);
               parameters.set("tau", tau);
@@ -130,6 +137,7 @@ int main(int argc, char** argv) {
               parameters.set("gravity_x", gravity.x());
               parameters.set("gravity_y", gravity.y());
               parameters.set("profile_bin_length", profiles.grid().bin);
+              parameters.set("profile-block", std::int64_t(block));  // the length used, automatic or given
             },
         // The profiles accumulated so far, which plan.checkpoint_extra wrote.
         .restore =
@@ -141,9 +149,9 @@ int main(int argc, char** argv) {
     refuse_output_among_inputs(cli.text("output"), {input_path});
     OutputFile out(cli.text("output"), /*resumable=*/true);
     StartedRun run = start_or_resume(cli, plan, out, run_start);
+    warn_small_angle("gf-incline", angle);
     const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_incline_observables);
-    const std::optional<double> from_time = from_tau ? std::optional<double>(*from_tau * tau) : std::nullopt;
-    const ProfileAnalysis analysis = analyse_profiles(profiles, units, from_time);
+    const ProfileAnalysis analysis = analyse_profiles(profiles, units, from_tau);
     write_profiles(run.writer, profiles, analysis, units);
     report_steady("gf-incline", profiles, analysis, units, plan.quiet);
     finish_run(cli, run.writer, out, run.engine, stats, plan);

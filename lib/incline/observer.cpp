@@ -24,9 +24,9 @@ io::Parameters described(const std::string& meaning, const std::string& units) {
 
 }  // namespace
 
-void sample_incline(const Engine& engine, ProfileAccumulator& profiles) {
+void sample_incline(const Engine& engine, ProfileAccumulator& profiles, const io::TimeUnit& unit) {
   check_layer(engine.state(), engine.box(), engine.step_count());
-  profiles.add(engine.step_count(), engine.time(), engine.state(), engine.contacts(),
+  profiles.add(engine.step_count(), engine.time() / unit.code_per_unit, engine.state(), engine.contacts(),
                incline_observables(engine.state()));
 }
 
@@ -70,8 +70,8 @@ void write_blocks(io::TrajectoryWriter& writer, const std::string& group, const 
   };
   column("index", index, "block number k: the steps in (k·block_steps, (k+1)·block_steps]", "1");
   column("samples", samples, "steps summed in the block", "1");
-  column("time_begin", begin, "time of the block's first sample", "time");
-  column("time_end", end, "time of the block's last sample", "time");
+  column("time_begin", begin, "time of the block's first sample", "tau");
+  column("time_end", end, "time of the block's last sample", "tau");
   column("flow_rate", summed[0], "mass-weighted mean v_x of the mobile grains, summed over the block's samples",
          "velocity");
   column("kinetic_energy", summed[1], "Σ ½mv² + ½Iω² of the mobile grains, summed over the block's samples",
@@ -173,13 +173,13 @@ void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& prof
   write("mT_over_pR2", p.mT_over_pR2, "m T/(p⟨R⟩²), m and ⟨R⟩ the mobile grains' mean mass and radius", "1");
 
   const auto& blocks = profiles.blocks();
-  auto block_start = [&](std::size_t b) { return double(blocks[b].index * profiles.block_steps()) * units.dt; };
+  auto block_start = [&](std::size_t b) { return units.time_of_step(blocks[b].index * profiles.block_steps()); };
   io::Parameters a;
   a.set("steady", analysis.steady.steady ? 1 : 0);
   a.set("steady_from_given", analysis.chosen ? 1 : 0);
   a.set("steady_from_step", analysis.from_step);
-  a.set("steady_from_time", double(analysis.from_step) * units.dt);
-  a.set("steady_from_tau", double(analysis.from_step) * units.dt / units.tau);
+  a.set("steady_from_time", units.time_of_step(analysis.from_step));
+  a.set("time_unit", "tau");
   for (std::size_t k = 0; k < analysis.steady.truncation.size(); ++k)
     a.set(std::string("mser_") + kBlockObservables[k] + "_time", block_start(analysis.steady.truncation[k]));
   a.set("blocks", std::int64_t(blocks.size()));
@@ -202,7 +202,7 @@ void write_profiles(io::TrajectoryWriter& writer, const ProfileAccumulator& prof
 
 void report_steady(const char* program, const ProfileAccumulator& profiles, const ProfileAnalysis& analysis,
                    const InclineUnits& units, bool quiet) {
-  const double from = double(analysis.from_step) * units.dt / units.tau;
+  const double from = units.time_of_step(analysis.from_step);
   const std::size_t averaged = profiles.blocks().size() - analysis.steady.first;
   if (!analysis.steady.steady)
     std::fprintf(stderr,

@@ -11,7 +11,10 @@
 // Output layout:
 //   /observables/{flow_rate, kinetic_energy, height}   H5MD elements (see InclineObservables)
 //   /profiles/<name> [layers]     time-averaged profiles (Profiles), attributes meaning, units;
-//                                 group attributes: steady, steady_from_step/_time/_tau, ...
+//                                 group attributes: steady, steady_from_step/_time, time_unit, ...
+// Every time (block times, steady_from_time, mser_*_time) is in τ, the unit of the
+// options and of the trajectory's own time datasets; only rates and velocities keep
+// code units.
 //   /profiles/blocks/<column> [blocks][bins]   per-block sums (ProfileColumn, with meaning, units)
 //   /profiles/blocks/{index, samples, time_begin, time_end} [blocks]
 //   /profiles/blocks/{flow_rate, kinetic_energy, height} [blocks]   observables summed per block
@@ -27,8 +30,9 @@
 namespace granflow {
 
 // After every step: fails if a grain left the layer (check_layer), then adds the step to
-// the profile blocks.
-void sample_incline(const Engine& engine, ProfileAccumulator& profiles);
+// the profile blocks at the engine's time in `unit` (the output's: gf-incline's τ), as
+// io::TrajectoryWriter stores it.
+void sample_incline(const Engine& engine, ProfileAccumulator& profiles, const io::TimeUnit& unit = {});
 // At every observed step: flow_rate, kinetic_energy and height in /observables.
 void record_incline_observables(const Engine& engine, io::TrajectoryWriter& writer);
 
@@ -41,10 +45,13 @@ std::vector<ProfileBlock> read_blocks(const io::TrajectoryReader& reader, const 
 // Constants of the run the analysis needs.
 struct InclineUnits {
   double dt = 0;
-  double tau = 0;          // √(⟨R⟩/g)
+  double tau = 0;          // √(⟨R⟩/g), in code time
   double gravity = 0;      // g
   double mean_radius = 0;  // ⟨R⟩ of the mobile grains
   double mean_mass = 0;
+
+  // Step n's time in τ.
+  double time_of_step(std::int64_t step) const { return double(step) * dt / tau; }
 };
 
 struct ProfileAnalysis {
@@ -56,7 +63,8 @@ struct ProfileAnalysis {
 
 // The steady part, detected (detect_steady on the block means of flow_rate and
 // kinetic_energy over the full blocks; only the last block can be short) or from the
-// first block whose first step is at or after from_time (code units), and its profiles.
+// first block whose first sample is at or after from_time (τ, as the blocks' times),
+// and its profiles.
 ProfileAnalysis analyse_profiles(const ProfileAccumulator& profiles, const InclineUnits& units,
                                  std::optional<double> from_time);
 

@@ -57,6 +57,8 @@ ProfileGrid profile_grid(const Box& box, double bin) {
 
 const ProfileColumnInfo& profile_column(int column) { return kColumns[column]; }
 
+std::int64_t automatic_profile_block(std::int64_t steps) { return std::clamp<std::int64_t>(steps / 20, 1, 5000); }
+
 InclineObservables incline_observables(const GrainState& s) {
   InclineObservables o;
   double mass = 0;

@@ -107,12 +107,20 @@ struct ProfileBlock {
   std::vector<double> sums;             // [column][bin], summed over the samples
 };
 
+// The steps per block of --profile-block 0 (automatic) for a run of `steps` steps:
+// min(5000, steps/20), at least 1. Runs of 10⁵ steps or more keep blocks of 5000 steps;
+// a shorter run still gets at least 20 full blocks (all of its steps when it has fewer
+// than 20), what the steady-state detection (MSER, d ≤ n/2, and the halves check)
+// needs to have anything to choose from.
+std::int64_t automatic_profile_block(std::int64_t steps);
+
 class ProfileAccumulator {
  public:
   ProfileAccumulator(ProfileGrid grid, std::int64_t block_steps);
 
-  // Adds the state after step `step` (≥ 1), the contacts of that step and its
-  // observables (incline_observables). Mobile grains must lie in [0, ly] (check_layer).
+  // Adds the state after step `step` (≥ 1) at `time` (in the unit the blocks keep:
+  // gf-incline's τ), the contacts of that step and its observables
+  // (incline_observables). Mobile grains must lie in [0, ly] (check_layer).
   void add(std::int64_t step, double time, const GrainState& state, const ContactRecords& contacts,
            const InclineObservables& observables);
 

@@ -15,6 +15,12 @@ Vec2 incline_gravity(double g, double angle_degrees) {
   return g * Vec2(std::sin(theta), -std::cos(theta));
 }
 
+void warn_small_angle(const char* program, double angle_degrees) {
+  if (angle_degrees >= 1) return;
+  std::fprintf(stderr, "%s: warning: --angle %g is in degrees; did you mean %.3g° (%g rad)?\n", program, angle_degrees,
+               angle_degrees * 180 / M_PI, angle_degrees);
+}
+
 InclineStart incline_start(const io::TrajectoryReader& input, long long frame_index) {
   const std::string& path = input.path();
   const std::size_t index = input.frame_index(frame_index);
@@ -26,6 +32,8 @@ InclineStart incline_start(const io::TrajectoryReader& input, long long frame_in
   start.frame_index = index;
   start.frame_step = frame.step;
   start.frame_time = frame.time;
+  const io::Parameters time = input.attributes("/particles/grains/position/time");
+  if (time.has("unit")) start.frame_time_unit = time.get_string("unit");
   start.grains = grains_of(frame, input.grains());
   start.box = frame.box;
   if (frame.has_contacts) {

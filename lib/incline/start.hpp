@@ -7,6 +7,7 @@
 // Tilting the base by θ puts gravity at g(sin θ, −cos θ): x points down the slope.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "core/vec.hpp"
 #include "dynamics/grains.hpp"
@@ -28,10 +29,18 @@ struct InclineStart {
   std::size_t frame_index = 0;
   std::int64_t frame_step = 0;
   double frame_time = 0;
+  // The unit of frame_time: the input's (its time datasets' `unit` attribute; "code"
+  // where absent).
+  std::string frame_time_unit = io::kCodeTime;
 };
 
 // g(sin θ, −cos θ) for θ in degrees.
 Vec2 incline_gravity(double g, double angle_degrees);
+
+// One warning line on stderr when --angle is below 1°, where a flow is unlikely to be
+// meant and an angle in radians typed by mistake likely: it names the value in degrees
+// those radians would be. Nothing otherwise.
+void warn_small_angle(const char* program, double angle_degrees);
 
 // Frame `frame` (negative: from the end) of an incline packing (gf-pack --incline) or
 // of a gf-incline trajectory, velocities kept. UsageError naming the file for a box

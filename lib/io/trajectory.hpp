@@ -85,6 +85,15 @@ class Parameters {
   std::map<std::string, Value> values_;
 };
 
+// The unit of every time a trajectory stores (the `time` of each H5MD element), named
+// by the H5MD `unit` attribute of each time dataset: kCodeTime, the engine's own time
+// (gf-pack, gf-shear), unless a program chooses another, e.g. gf-incline's τ.
+inline constexpr const char* kCodeTime = "code";
+struct TimeUnit {
+  std::string name = kCodeTime;
+  double code_per_unit = 1;  // the unit in code time: stored time = code time / this
+};
+
 class TrajectoryWriter {
  public:
   // Creates (truncates) path and writes /h5md. Object timestamps are off, so the same
@@ -101,6 +110,13 @@ class TrajectoryWriter {
   // Once, before the first frame; N ≥ 1 and all three columns of size N. The box gives
   // the boundary (periodic in y or not); its edges are written with every frame.
   void write_grains(const GrainProperties& grains, const Box& box);
+  // Times given to append_frame and append_observable are code times; they are stored
+  // in `unit`. On a new file: before write_grains and the first observable (their
+  // time datasets are labelled when created). On a reopened one: the unit its time
+  // datasets name (UsageError naming the file otherwise), for the times appended.
+  void set_time_unit(const TimeUnit& unit);
+  // A code time in the file's unit.
+  double file_time(double code_time) const;
   // γ̇ of the Lees–Edwards images (boxes periodic in y; 0 until set).
   void set_lees_edwards_rate(double rate);
   // Steps must increase from frame to frame; every per-grain column has size N.
@@ -169,9 +185,10 @@ class TrajectoryReader {
   std::vector<double> frame_times() const;
   bool has_contacts() const;
 
-  Parameters parameters() const;                               // empty if the file has no /parameters
-  Parameters attributes(const std::string& group_path) const;  // empty if the group is absent
-  double lees_edwards_rate() const;                            // 0 if absent
+  Parameters parameters() const;  // empty if the file has no /parameters
+  // The attributes of a group or dataset; empty if it is absent.
+  Parameters attributes(const std::string& group_path) const;
+  double lees_edwards_rate() const;  // 0 if absent
 
   bool has_observable(const std::string& name) const;
   std::vector<std::string> observable_names() const;

@@ -238,9 +238,10 @@ Parameters TrajectoryReader::attributes(const std::string& group_path) const {
     Parameters p(impl_->path);
     hid_t file = impl_->file.get();
     if (!exists(file, group_path)) return p;
-    Group group = open_group(file, group_path);
-    for (const std::string& name : attribute_names(group.get())) {
-      Attribute attribute = open_attribute(group.get(), name);
+    // A group or a dataset (e.g. the `unit` of a time dataset).
+    const Handle<H5Oclose> object(check(H5Oopen(file, group_path.c_str(), H5P_DEFAULT), file, "open " + group_path));
+    for (const std::string& name : attribute_names(object.get())) {
+      Attribute attribute = open_attribute(object.get(), name);
       switch (attribute_class(attribute.get())) {
         case H5T_FLOAT: p.set(name, read_double_attribute(attribute.get())); break;
         case H5T_INTEGER: p.set(name, read_int_attribute(attribute.get())); break;

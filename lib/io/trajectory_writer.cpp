@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <optional>
@@ -22,11 +23,15 @@ constexpr std::size_t kObservableBlock = 4096;
 struct Element {
   ExtendibleDataset step, time, value;
 
-  static Element create(hid_t loc, const std::string& path, const std::vector<hsize_t>& inner) {
+  // time carries the H5MD `unit` attribute: the unit its values are in.
+  static Element create(hid_t loc, const std::string& path, const std::vector<hsize_t>& inner,
+                        const std::string& time_unit) {
     Group group = create_group(loc, path);
-    return {ExtendibleDataset::create<std::int64_t>(group.get(), "step", {}),
-            ExtendibleDataset::create<double>(group.get(), "time", {}),
-            ExtendibleDataset::create<double>(group.get(), "value", inner)};
+    Element e{ExtendibleDataset::create<std::int64_t>(group.get(), "step", {}),
+              ExtendibleDataset::create<double>(group.get(), "time", {}),
+              ExtendibleDataset::create<double>(group.get(), "value", inner)};
+    write_attribute(e.time.id(), "unit", time_unit);
+    return e;
   }
   static Element open(hid_t loc, const std::string& path) {
     Group group = open_group(loc, path);
@@ -85,6 +90,10 @@ struct TrajectoryWriter::Impl {
   File file;
   Content content;
   bool unfinished = false;  // the file carries the mark
+  TimeUnit time_unit;
+
+  // A time of the code (the engine's) in the file's unit.
+  double file_time(double code_time) const { return code_time / time_unit.code_per_unit; }
 
   // The open file; RuntimeFailure after close().
   hid_t id() const {
@@ -118,7 +127,7 @@ struct TrajectoryWriter::Impl {
       if (!exists(id(), schema::kObservables)) create_group(id(), schema::kObservables);
       std::vector<hsize_t> inner = width == 1 ? std::vector<hsize_t>{} : schema::kTensorShape;
       Observable o;
-      o.element = Element::create(id(), schema::kObservables + "/" + name, inner);
+      o.element = Element::create(id(), schema::kObservables + "/" + name, inner, time_unit.name);
       o.width = width;
       it = content.observables.emplace(name, std::move(o)).first;
     }
@@ -211,10 +220,30 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
     write_attribute(lees_edwards.get(), "rate", 0.0);
   }
   for (const auto& element : schema::frame_elements(n, box.periodic_y))
-    c.elements.push_back(Element::create(file, element.path, element.inner));
+    c.elements.push_back(Element::create(file, element.path, element.inner, impl_->time_unit.name));
   c.grains = n;
   c.periodic_y = box.periodic_y;
 }
+
+void TrajectoryWriter::set_time_unit(const TimeUnit& unit) {
+  impl_->id();
+  const Content& c = impl_->content;
+  if (!(unit.code_per_unit > 0) || !std::isfinite(unit.code_per_unit) || unit.name.empty())
+    throw RuntimeFailure("'" + impl_->path + "': bad time unit '" + unit.name + "'");
+  // A reopened file keeps the unit its time datasets name; a new one takes it before
+  // any of them exists.
+  if (!c.elements.empty() || !c.observables.empty()) {
+    const Element& e = !c.elements.empty() ? c.elements.front() : c.observables.begin()->second.element;
+    const std::string stored = has_attribute(e.time.id(), "unit")
+                                   ? read_string_attribute(open_attribute(e.time.id(), "unit").get())
+                                   : std::string(kCodeTime);
+    if (stored != unit.name)
+      throw UsageError("'" + impl_->path + "' stores time in unit '" + stored + "', not '" + unit.name + "'");
+  }
+  impl_->time_unit = unit;
+}
+
+double TrajectoryWriter::file_time(double code_time) const { return impl_->file_time(code_time); }
 
 void TrajectoryWriter::set_lees_edwards_rate(double rate) {
   hid_t file = impl_->id();
@@ -266,7 +295,8 @@ void TrajectoryWriter::append_frame(const Frame& frame) {
                             frame.angular_velocity.data(),
                             edges,
                             &frame.box.offset};
-  for (std::size_t i = 0; i < c.elements.size(); ++i) c.elements[i].append(&frame.step, &frame.time, values[i], 1);
+  const double time = impl_->file_time(frame.time);
+  for (std::size_t i = 0; i < c.elements.size(); ++i) c.elements[i].append(&frame.step, &time, values[i], 1);
 
   if (frame.has_contacts && !c.contacts) impl_->create_contacts(frames_before);
   if (c.contacts) {
@@ -282,7 +312,7 @@ void TrajectoryWriter::append_frame(const Frame& frame) {
 void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time, double value) {
   Observable& o = impl_->observable(name, 1, step);
   o.steps.push_back(step);
-  o.times.push_back(time);
+  o.times.push_back(impl_->file_time(time));
   o.values.push_back(value);
   if (o.steps.size() >= kObservableBlock) o.flush();
 }
@@ -290,7 +320,7 @@ void TrajectoryWriter::append_observable(const std::string& name, std::int64_t s
 void TrajectoryWriter::append_observable(const std::string& name, std::int64_t step, double time, const Mat2& value) {
   Observable& o = impl_->observable(name, 4, step);
   o.steps.push_back(step);
-  o.times.push_back(time);
+  o.times.push_back(impl_->file_time(time));
   // Row-major [i][j] = T_ij; Eigen stores column-major.
   o.values.insert(o.values.end(), {value(0, 0), value(0, 1), value(1, 0), value(1, 1)});
   if (o.steps.size() >= kObservableBlock) o.flush();

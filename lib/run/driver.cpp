@@ -71,7 +71,9 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
       if (plan.strain_per_step != 0)
         std::snprintf(status, sizeof status, "strain %.3f, %.0f steps/s, %d sweeps", double(n) * plan.strain_per_step,
                       rate, r.iterations);
-      else std::snprintf(status, sizeof status, "t = %.4g, %.0f steps/s, %d sweeps", engine.time(), rate, r.iterations);
+      else
+        std::snprintf(status, sizeof status, "t = %.4g, %.0f steps/s, %d sweeps", writer.file_time(engine.time()), rate,
+                      r.iterations);
       bar.update(double(n - first), status);
     }
     if (interrupt_requested()) {

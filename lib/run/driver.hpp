@@ -24,6 +24,9 @@ struct RunPlan {
   double max_unconverged = 1;
   double strain_per_step = 0;  // for the progress line (γ̇·dt); 0 shows time instead
   bool quiet = false;
+  // The unit of the output's times (io::TrajectoryWriter::set_time_unit), on a new
+  // output and on a resumed one (start_or_resume), and of the progress line.
+  io::TimeUnit time_unit;
   // Called after every step, before anything is recorded (gf-incline: checks that no
   // grain left the layer, samples the profiles); throws to abort the run. Optional.
   std::function<void(const Engine&)> after_step;

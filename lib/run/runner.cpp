@@ -173,7 +173,9 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFi
                     start.settings, start.dt, start.gravity);
       engine.restore(checkpoint->step, memory_of(checkpoint->frame.contacts));
       if (start.restore) start.restore(io::TrajectoryReader(plan.checkpoint_path));
-      return StartedRun{std::move(engine), reopen_output(*checkpoint, out), checkpoint->stats};
+      io::TrajectoryWriter writer = reopen_output(*checkpoint, out);
+      writer.set_time_unit(plan.time_unit);
+      return StartedRun{std::move(engine), std::move(writer), checkpoint->stats};
     } catch (...) {
       // The adopted partial stays resumable: the checkpoint finds it by its inode.
       out.keep_partial();
@@ -190,6 +192,7 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFi
   if (start.add_parameters) start.add_parameters(parameters);
   io::TrajectoryWriter writer(out.temp_path());
   writer.mark_unfinished();
+  writer.set_time_unit(plan.time_unit);
   writer.write_parameters(parameters);
   writer.write_grains(properties_of(start.grains), start.box);
   if (start.box.periodic_y) writer.set_lees_edwards_rate(start.rate);

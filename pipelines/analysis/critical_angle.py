@@ -40,7 +40,7 @@ import numpy as np
 
 from analysis import steady_state as ss
 from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, sha256
+from granflow_py.hdf5 import in_tau, read_attrs, sha256, time_unit
 
 FLOWING_STATES = ("steady", "accelerating")
 
@@ -55,9 +55,10 @@ def read_flow(path):
         if "observables/flow_rate" not in f:
             raise ValueError("no /observables/flow_rate (not a gf-incline trajectory?)")
         time = f["observables/flow_rate/time"][...].astype(float)
+        unit = time_unit(f["observables/flow_rate/time"])
         value = f["observables/flow_rate/value"][...].astype(float)
     params = {k: float(prm[k]) for k in ("angle", "friction", "restitution", "tau", "gravity", "mean_radius")}
-    return params, time / params["tau"], value / math.sqrt(params["gravity"] * params["mean_radius"])
+    return params, in_tau(time, unit, params["tau"]), value / math.sqrt(params["gravity"] * params["mean_radius"])
 
 
 def classify(time, velocity, window, rest_velocity, drift):

@@ -43,7 +43,7 @@ import h5py
 import numpy as np
 
 from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, sha256
+from granflow_py.hdf5 import in_tau, read_attrs, sha256
 
 PROFILE_NAMES = (
     "y",
@@ -88,12 +88,18 @@ def read_run(path):
         params["time"] = params["dt"] * params["total_steps"] / params["tau"]
         # What the run started from: a pack, or a frame of a parent run (a branch).
         params["start"] = os.path.basename(attrs.get("input", ""))
-        params["start_time"] = float(attrs.get("input_time", 0.0)) / params["tau"]
+        # input_time is in the parent's unit (input_time_unit; code time before it existed).
+        params["start_time"] = in_tau(
+            float(attrs.get("input_time", 0.0)), attrs.get("input_time_unit", "code"), params["tau"]
+        )
         params["start_friction"] = float(attrs.get("parent_friction", math.nan))
         g = f["/profiles"]
         prof = {k: g[k][...].astype(float) for k in PROFILE_NAMES}
         pattrs = read_attrs(g)
-    for k in ("mean_radius", "mean_mass", "layer_length", "bin", "steady", "steady_from_tau"):
+    # The start of the averaged part: steady_from_time in τ (time_unit "tau"), or in files
+    # of code time steady_from_tau.
+    steady_from = "steady_from_time" if pattrs.get("time_unit") == "tau" else "steady_from_tau"
+    for k in ("mean_radius", "mean_mass", "layer_length", "bin", "steady", steady_from):
         if k not in pattrs:
             raise ValueError(f"/profiles lacks the attribute {k}")
     params.update(
@@ -101,7 +107,7 @@ def read_run(path):
         mean_mass=float(pattrs["mean_mass"]),
         layer_length=float(pattrs["layer_length"]),
         steady=int(pattrs["steady"]),
-        steady_from_tau=float(pattrs["steady_from_tau"]),
+        steady_from_tau=float(pattrs[steady_from]),
         steady_from_given=int(pattrs.get("steady_from_given", 0)),
     )
     return {"parameters": params, "profiles": prof, "bin": float(pattrs["bin"])}
@@ -230,6 +236,10 @@ RUN_COLUMNS = (
     "steady_from_tau",
     "steady_from_given",
 )
+RUN_MEANINGS = {
+    "steady_from_tau": "start (τ) of the averaged part: the /profiles attribute 'steady_from_time' "
+    "('steady_from_tau' in files of code time)",
+}
 GROUPS = {
     "runs": ("surface_height", "bulk_layers", "bulk_from", "bulk_to", "flowing"),
     "bulk": tuple(n + s for n in BULK for s in ("", "_error", "_drift")),
@@ -286,7 +296,7 @@ def write_table(output, rows, base_skip, surface_skip, command_line):
         )
         for col in RUN_COLUMNS:
             runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-            runs[col].attrs["meaning"] = f"the run's parameter or /profiles attribute '{col}'"
+            runs[col].attrs["meaning"] = RUN_MEANINGS.get(col, f"the run's parameter or /profiles attribute '{col}'")
         for col, meaning in (
             ("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
             ("start_friction", "friction of the parent run (NaN: started from a pack)"),

@@ -1,5 +1,6 @@
 """Reading granflow's HDF5 files: strings as text, attributes, whole groups of datasets, one
-stored frame of grains; and the SHA-256 every table records for its inputs."""
+stored frame of grains, times in τ whatever unit a file stores them in; and the SHA-256 every
+table records for its inputs."""
 import hashlib
 
 import h5py
@@ -14,6 +15,21 @@ def text(value):
 def read_attrs(obj):
     """The attributes of an HDF5 group or dataset, strings as text."""
     return {k: text(v) for k, v in obj.attrs.items()}
+
+
+def time_unit(ds):
+    """The unit of an H5MD time dataset: its `unit` attribute ("tau" in gf-incline's
+    trajectories, "code" in the others); "code" where the attribute is absent."""
+    return text(ds.attrs.get("unit", "code"))
+
+
+def in_tau(time, unit, tau):
+    """Times stored in `unit` ("tau" or "code") in units of τ (tau: τ in code time)."""
+    if unit == "tau":
+        return time
+    if unit == "code":
+        return time / tau
+    raise ValueError(f"unknown time unit '{unit}'")
 
 
 def read_dataset(ds):
@@ -35,12 +51,14 @@ def read_parameters(path):
 
 
 def read_frame(path, frame=-1):
-    """Positions, velocities, time, radii, fixed flags, box edges and parameters of one stored frame."""
+    """Positions, velocities, time (and its unit), radii, fixed flags, box edges and parameters
+    of one stored frame."""
     with h5py.File(path, "r") as f:
         g = f["/particles/grains"]
         pos = g["position/value"][frame]
         vel = g["velocity/value"][frame]
         time = float(g["position/time"][frame])
+        unit = time_unit(g["position/time"])
         radius = g["radius"][...]
         fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
         edges = g["box/edges/value"][frame]
@@ -49,6 +67,7 @@ def read_frame(path, frame=-1):
         "position": pos,
         "velocity": vel,
         "time": time,
+        "time_unit": unit,
         "radius": radius,
         "fixed": fixed,
         "edges": edges,

@@ -13,7 +13,7 @@ from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle
 
 from granflow_py.disks import periodic_images
-from granflow_py.hdf5 import read_frame
+from granflow_py.hdf5 import in_tau, read_frame
 from granflow_py.plotting import plt, save_figure
 
 
@@ -59,7 +59,7 @@ def main():
     ax.set_title(
         f"Thesis Fig. 4.7: incline flow, θ = {theta:g}°, μ = {mu:g}, e = {e:g}, "
         f"{int((~fixed).sum())} grains on {int(fixed.sum())} fixed (black),\n"
-        f"t = {time / tau:.0f} τ ({os.path.basename(args.input)})",
+        f"t = {in_tau(time, d['time_unit'], tau):.0f} τ ({os.path.basename(args.input)})",
         fontsize=9,
     )
     save_figure(fig, args.output)

@@ -44,10 +44,12 @@ def ar1_mean_se(phi, n):
     return np.sqrt((1 + 2 * np.sum((1 - k / n) * phi**k)) / ((1 - phi**2) * n))
 
 
-def _element(group, name, value, steps, times):
+def _element(group, name, value, steps, times, unit=None):
     g = group.create_group(name)
     g.create_dataset("step", data=np.asarray(steps, dtype=np.int64))
     g.create_dataset("time", data=np.asarray(times, dtype=float))
+    if unit is not None:
+        g["time"].attrs["unit"] = unit
     g.create_dataset("value", data=value)
 
 
@@ -462,16 +464,21 @@ def write_incline_run(
     steady_from_tau=100.0,
     seed=1,
     parent=None,
+    time_unit="tau",
 ):
     """A gf-incline trajectory with the parts the incline analyses read: /parameters,
     /observables/flow_rate (given series, one row per observe_every steps), /profiles (given,
     or bagnold_profiles) with its attributes, and two frames of grains (a base row and a layer).
-    parent = (path, friction, time in τ): a branch, with gf-incline's input and parent_* provenance."""
+    parent = (path, friction, time in τ): a branch, with gf-incline's input and parent_* provenance.
+    time_unit: "tau" (gf-incline's files: times in τ, each time dataset and /profiles saying so)
+    or "code" (files of code time without unit attributes, steady_from_tau on /profiles)."""
     rng = np.random.default_rng(seed)
     d = 2 * mean_radius
     mass = np.pi * mean_radius**2
     tau = np.sqrt(mean_radius / gravity)
     dt = time_step * tau
+    # Code time -> stored time, and the unit attribute of the time datasets.
+    stored, unit = (lambda t: t / tau, "tau") if time_unit == "tau" else (lambda t: t, None)
     lx = width_diameters * d
     if profiles is None:
         profiles = bagnold_profiles(
@@ -507,7 +514,7 @@ def write_incline_run(
             f["parameters"].attrs.update(
                 {
                     "input": parent[0],
-                    "input_time": parent[2] * tau,
+                    "input_time": stored(parent[2] * tau),
                     "parent_friction": float(parent[1]),
                     "parent_program": "gf-incline",
                 }
@@ -515,7 +522,9 @@ def write_incline_run(
         else:
             f["parameters"].attrs["input"] = "incline_pack.h5"
         obs = f.create_group("observables")
-        _element(obs, "flow_rate", flow_rate, steps, steps * dt)
+        if unit is not None and parent is not None:
+            f["parameters"].attrs["input_time_unit"] = unit
+        _element(obs, "flow_rate", flow_rate, steps, stored(steps * dt), unit)
         g = f.create_group("profiles")
         for k, v in profiles.items():
             if not k.startswith("_"):
@@ -524,7 +533,11 @@ def write_incline_run(
             {
                 "steady": np.int64(steady),
                 "steady_from_given": np.int64(1),
-                "steady_from_tau": steady_from_tau,
+                **(
+                    {"steady_from_time": steady_from_tau, "time_unit": "tau"}
+                    if time_unit == "tau"
+                    else {"steady_from_tau": steady_from_tau}
+                ),
                 "bin": float(profiles.get("_bin", 3 * d)),
                 "layer_length": lx,
                 "mean_radius": mean_radius,
@@ -549,9 +562,9 @@ def write_incline_run(
         pg.create_dataset("radius", data=radius)
         pg.create_dataset("mass", data=np.pi * radius**2)
         pg.create_dataset("fixed", data=fixed)
-        _element(pg, "position", pos, frames, frames * dt)
-        _element(pg, "velocity", vel, frames, frames * dt)
-        _element(pg, "box/edges", edges, frames, frames * dt)
+        _element(pg, "position", pos, frames, stored(frames * dt), unit)
+        _element(pg, "velocity", vel, frames, stored(frames * dt), unit)
+        _element(pg, "box/edges", edges, frames, stored(frames * dt), unit)
     return path
 
 

@@ -101,6 +101,23 @@ class InclineBulkTest(unittest.TestCase):
         np.testing.assert_allclose(table["bulk"]["s_over_p"], np.tan(np.radians([10, 12])), rtol=1e-12)
         self.assertEqual(list(table["runs"]["input"]), paths)
 
+    def test_times_in_tau_or_code_time_read_alike(self):
+        # gf-incline stores its times in τ (unit attributes, /profiles steady_from_time);
+        # files of code time (no unit) are divided by τ. Both give the same times in τ.
+        parent = os.path.join(self.tmp.name, "parent.h5")
+        synthetic.write_incline_run(parent, 12)
+        got = {}
+        for unit in ("tau", "code"):
+            path = os.path.join(self.tmp.name, f"branch_{unit}.h5")
+            synthetic.write_incline_run(path, 12, parent=(parent, 0.0, 400.0), steady_from_tau=150.0, time_unit=unit)
+            run = ib.read_run(path)["parameters"]
+            _, time, _ = ca.read_flow(path)
+            got[unit] = (run["start_time"], run["steady_from_tau"], time)
+        for unit, (start, steady_from, time) in got.items():
+            self.assertAlmostEqual(start, 400.0, places=9, msg=unit)
+            self.assertEqual(steady_from, 150.0, unit)
+            np.testing.assert_allclose(time, np.arange(1, 4001) * 10 * 5e-3, rtol=1e-12, err_msg=unit)
+
 
 class CriticalAngleTest(unittest.TestCase):
     def series(self, values):

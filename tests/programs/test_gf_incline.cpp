@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "io/trajectory.hpp"
@@ -60,6 +62,7 @@ TEST(GfInclineResume, InterruptedAndResumedEqualsUninterrupted) {
 
   io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
   ASSERT_EQ(ref.frame_count(), cut.frame_count());
+  EXPECT_EQ(ref.frame_times(), cut.frame_times());
   for (std::size_t k = 0; k < ref.frame_count(); ++k) {
     const io::Frame a = ref.frame(k), b = cut.frame(k);
     ASSERT_EQ(a.position, b.position) << "frame " << k;
@@ -70,6 +73,7 @@ TEST(GfInclineResume, InterruptedAndResumedEqualsUninterrupted) {
   for (const char* name : {"flow_rate", "kinetic_energy", "height", "solver_iterations"}) {
     EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
     EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
+    EXPECT_EQ(ref.observable_time(name), cut.observable_time(name)) << name;  // in τ after the resume too
   }
   for (const char* name : kProfileArrays) {
     std::vector<std::size_t> shape_ref, shape_cut;
@@ -99,7 +103,7 @@ TEST(GfInclineProfiles, LayoutAndUnits) {
   const auto blocks = out.array("/profiles/blocks/contact_yy", &shape);
   EXPECT_EQ(shape[0], 4u);  // 2000 steps in blocks of 500
   const io::Parameters a = out.attributes("/profiles");
-  for (const char* name : {"steady", "steady_from_time", "steady_from_tau", "tau", "bin", "blocks_averaged"})
+  for (const char* name : {"steady", "steady_from_time", "time_unit", "tau", "bin", "blocks_averaged"})
     EXPECT_TRUE(a.has(name)) << name;
   EXPECT_EQ(out.observable_step("flow_rate").front(), 10);  // --observe-every defaults to 10
 }
@@ -128,6 +132,8 @@ TEST(GfInclineBranch, NewAngleAndFrictionFromTheLastFrameRecordsTheParent) {
   EXPECT_EQ(a.get_int("input_frame"), std::int64_t(p.frame_count() - 1));
   EXPECT_EQ(a.get_int("input_step"), 1000);
   EXPECT_DOUBLE_EQ(a.get_double("input_time"), last.time);
+  EXPECT_EQ(a.get_string("input_time_unit"), "tau");
+  EXPECT_NEAR(last.time, 1000 * 2e-3, 1e-9);  // the parent's default --time-step, in τ
   EXPECT_EQ(a.get_string("parent_program"), "gf-incline");
   EXPECT_EQ(a.get_double("parent_angle"), 20);
   EXPECT_EQ(a.get_double("parent_friction"), 0);
@@ -213,7 +219,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"time_step_zero", "-i {in} -o {out} --angle 12 --time-step 0", "--time-step"},
         BadInput{"dt_negative", "-i {in} -o {out} --angle 12 --dt -1e-3", "--dt"},
         BadInput{"profile_bin_zero", "-i {in} -o {out} --angle 12 --profile-bin 0", "--profile-bin"},
-        BadInput{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100", "--profile-block"},
+        BadInput{"block_longer_than_run", "-i {in} -o {out} --angle 12 --steps 100 --profile-block 500",
+                 "--profile-block"},
         BadInput{"from_time_after_run", "-i {in} -o {out} --angle 12 --time 100 --from-time 200", "--from-time"},
         BadInput{"frame_out_of_range", "-i {in} -o {out} --angle 12 --frame 3", "--frame"},
         BadInput{"missing_input_option", "-o {out} --angle 12", "--input"},
@@ -235,4 +242,127 @@ TEST(GfInclineBadInput, BadFiles) {
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
     EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << path;
   }
+}
+
+// ---- one time unit: the interface, the files and stderr all speak τ ----
+
+namespace {
+// The `unit` attribute of a dataset ("" if absent).
+std::string unit_of(const io::TrajectoryReader& file, const std::string& dataset) {
+  const io::Parameters a = file.attributes(dataset);
+  return a.has("unit") ? a.get_string("unit") : "";
+}
+
+// Every H5MD time dataset of a trajectory: the frame elements' and the observables'.
+std::vector<std::string> time_datasets(const io::TrajectoryReader& file) {
+  std::vector<std::string> paths;
+  for (const char* element :
+       {"/particles/grains/position", "/particles/grains/velocity", "/particles/grains/orientation",
+        "/particles/grains/angular_velocity", "/particles/grains/box/edges"})
+    paths.push_back(std::string(element) + "/time");
+  for (const std::string& name : file.observable_names()) paths.push_back("/observables/" + name + "/time");
+  return paths;
+}
+
+// Where stderr says the averaged part starts: the number after "t = " in "steady from
+// t = X τ" or in the warning "... still drifts after t = X τ" (NaN if absent).
+double steady_on_stderr(const std::string& err) {
+  const std::string key = "t = ";
+  const auto at = err.find(key);
+  return at == std::string::npos ? std::nan("") : std::stod(err.substr(at + key.size()));
+}
+}  // namespace
+
+TEST(GfInclineTime, FilesAndStderrInTauLikeTheOptions) {
+  ScratchDir dir("incline_time");
+  // 2000 steps of 2e-3 τ: --time 4 ends at 4 τ; frames every 1 τ; profiles from 1 τ on.
+  auto r = run_tool("gf-incline", "-i " + packing() +
+                                      " --angle 20 --time 4 --time-step 2e-3 --profile-block 500 --frame-every 500"
+                                      " --from-time 1 -o " +
+                                      (dir / "out.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader out(dir / "out.h5");
+  const double frame_interval = 500 * 2e-3;
+  const std::vector<double> times = out.frame_times();
+  ASSERT_EQ(times.size(), 5u);
+  EXPECT_NEAR(times.back(), 4.0, 1e-9) << "the last frame is at the end of --time 4";
+  EXPECT_NEAR(times[1], frame_interval, 1e-9);
+  EXPECT_NEAR(out.observable_time("flow_rate").back(), 4.0, 1e-9);
+  EXPECT_NEAR(out.array("/profiles/blocks/time_end").back(), 4.0, 1e-9);
+
+  const io::Parameters p = out.attributes("/profiles");
+  EXPECT_EQ(p.get_string("time_unit"), "tau");
+  EXPECT_FALSE(p.has("steady_from_tau")) << "one name per quantity: steady_from_time";
+  const double from = p.get_double("steady_from_time");
+  EXPECT_GE(from, 1.0 - 1e-9);
+  EXPECT_LE(from, 1.0 + frame_interval);
+  EXPECT_NEAR(steady_on_stderr(r.err), from, 1e-3 * from) << r.err;
+
+  for (const std::string& path : time_datasets(out)) EXPECT_EQ(unit_of(out, path), "tau") << path;
+  EXPECT_EQ(out.attributes("/profiles/blocks/time_begin").get_string("units"), "tau");
+  EXPECT_EQ(out.attributes("/profiles/blocks/time_end").get_string("units"), "tau");
+}
+
+TEST(GfInclineTime, GfShearAndGfPackLabelCodeUnits) {
+  ScratchDir dir("incline_time_code");
+  const std::string pack = dir / "pack.h5", run = dir / "run.h5";
+  ASSERT_EQ(run_tool("gf-pack", "--grains 50 --packing-fraction 0.5 --quiet -o " + pack).exit_code, 0);
+  auto r = run_tool("gf-shear", "-i " + pack + " --strain 0.02 --strain-step 1e-3 --quiet -o " + run);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string& path : {pack, run}) {
+    io::TrajectoryReader file(path);
+    for (const std::string& dataset : time_datasets(file)) EXPECT_EQ(unit_of(file, dataset), "code") << dataset;
+    EXPECT_EQ(unit_of(file, "/lees_edwards/offset/time"), "code") << path;  // boxes periodic in y only
+  }
+}
+
+// ---- defaults that fit the run ----
+
+TEST(GfInclineDefaults, ShortRunWithoutProfileBlockHasProfiles) {
+  ScratchDir dir("incline_short");
+  auto r = run_tool("gf-incline", "-i " + packing() + " --angle 20 --steps 1000 --quiet -o " + (dir / "out.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader out(dir / "out.h5");
+  const io::Parameters p = out.attributes("/profiles");
+  const std::int64_t block = p.get_int("block_steps");
+  EXPECT_EQ(block, 50) << "automatic: min(5000, steps/20)";
+  EXPECT_EQ(out.array("/profiles/blocks/index").size(), 20u);
+  EXPECT_FALSE(out.array("/profiles/velocity_x").empty());
+  EXPECT_EQ(out.parameters().get_int("profile-block"), block) << "/parameters records the block length used";
+}
+
+class GfInclineBadProfileBlock : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(GfInclineBadProfileBlock, FailsWithExitTwoOneLineNoOutput) {
+  expect_refused("gf-incline", GetParam(), {{"{in}", packing()}});
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, GfInclineBadProfileBlock,
+                         ::testing::Values(BadInput{"block_negative",
+                                                    "-i {in} -o {out} --angle 12 --steps 100 --profile-block -1",
+                                                    "--profile-block"}),
+                         bad_input_name);
+
+// ---- an angle typed in radians ----
+
+TEST(GfInclineAngle, BelowOneDegreeWarnsOnceAndRuns) {
+  ScratchDir dir("incline_angle");
+  auto r = run_tool("gf-incline", "-i " + packing() + " --angle 0.35 --steps 200 --quiet -o " + (dir / "small.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "small.h5"));
+  int warnings = 0;
+  std::istringstream lines(r.err);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("--angle") != std::string::npos) {
+      ++warnings;
+      EXPECT_NE(line.find("gf-incline: warning:"), std::string::npos) << line;
+      EXPECT_NE(line.find("0.35"), std::string::npos) << line;
+      EXPECT_NE(line.find("degrees"), std::string::npos) << line;
+      EXPECT_NE(line.find("20.1"), std::string::npos) << line;  // 0.35 rad in degrees
+    }
+  EXPECT_EQ(warnings, 1) << r.err;
+
+  r = run_tool("gf-incline", "-i " + packing() + " --angle 20 --steps 200 --quiet -o " + (dir / "normal.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("--angle"), std::string::npos) << r.err;
 }

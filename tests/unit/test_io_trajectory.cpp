@@ -660,6 +660,48 @@ TEST_F(IoReopen, RefusesMissingFrames) {
   }
 }
 
+// ---- the unit of time ----
+
+using IoTimeUnit = IoTest;
+
+// Every time dataset carries a `unit` attribute: "code" unless the writer was given
+// another unit, in which the times are then stored (code time / code_per_unit), also
+// after a reopen for append.
+TEST_F(IoTimeUnit, EveryTimeDatasetNamesItsUnitAndHoldsTimesInIt) {
+  const std::string code = file("code.h5"), tau = file("tau.h5");
+  const GrainProperties grains = make_grains(5, 1);
+  for (const std::string& path : {code, tau}) {
+    TrajectoryWriter w(path);
+    if (path == tau) w.set_time_unit({"tau", 0.5});
+    w.write_grains(grains, make_frame(5, 0, 0, false, 2).box);
+    Frame f = make_frame(5, 4, 2, false, 3);
+    f.time = 2.0;
+    w.append_frame(f);
+    w.append_observable("height", 4, 2.0, 1.0);
+  }
+  {
+    TrajectoryWriter w = TrajectoryWriter::reopen_for_append(tau, 1, 4);
+    w.set_time_unit({"tau", 0.5});
+    Frame f = make_frame(5, 8, 2, false, 4);
+    f.time = 4.0;
+    w.append_frame(f);
+    w.append_observable("height", 8, 4.0, 1.0);
+  }
+  const std::vector<std::string> datasets = {
+      "/particles/grains/position/time",    "/particles/grains/velocity/time",
+      "/particles/grains/orientation/time", "/particles/grains/angular_velocity/time",
+      "/particles/grains/box/edges/time",   "/observables/height/time"};
+  TrajectoryReader c(code), t(tau);
+  for (const std::string& d : datasets) {
+    EXPECT_EQ(c.attributes(d).get_string("unit"), "code") << d;
+    EXPECT_EQ(t.attributes(d).get_string("unit"), "tau") << d;
+  }
+  EXPECT_EQ(c.frame_times(), std::vector<double>{2.0});
+  EXPECT_EQ(c.observable_time("height"), std::vector<double>{2.0});
+  EXPECT_EQ(t.frame_times(), (std::vector<double>{4.0, 8.0}));
+  EXPECT_EQ(t.observable_time("height"), (std::vector<double>{4.0, 8.0}));
+}
+
 // ---- reproducibility ----
 
 TEST_F(IoDeterminism, IdenticalInputsGiveIdenticalBytes) {

@@ -215,5 +215,19 @@ TEST(ProfileBlocks, RoundTripThroughATrajectoryFile) {
   std::filesystem::remove(path);
 }
 
+// The automatic block length (--profile-block 0): 5000 steps for runs of 10⁵ steps or
+// more, so long runs keep the blocks they always had; shorter runs get at least 20 full
+// blocks for the steady-state detection; never less than one step.
+TEST(ProfileBlocks, AutomaticLengthFitsTheRun) {
+  EXPECT_EQ(automatic_profile_block(1000000), 5000);
+  EXPECT_EQ(automatic_profile_block(100000), 5000);
+  EXPECT_EQ(automatic_profile_block(99999), 4999);
+  EXPECT_EQ(automatic_profile_block(1000), 50);
+  EXPECT_EQ(automatic_profile_block(25), 1);
+  EXPECT_EQ(automatic_profile_block(1), 1);
+  for (std::int64_t steps : {1, 7, 19, 20, 39, 1000, 12345, 99999, 100000, 250000})
+    EXPECT_GE(steps / automatic_profile_block(steps), std::min<std::int64_t>(20, steps)) << steps;
+}
+
 }  // namespace
 }  // namespace granflow
