@@ -88,7 +88,7 @@ TEST(Unconverged, InclineStopsBeyondTheLimitToo) {
 TEST(Unconverged, TheLimitIsCheckedAndNotPartOfTheResumeSignature) {
   ScratchDir dir("unconverged_resume");
   const std::string args = "-i " + medium() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 5000 -q";
-  if (interrupted_run("gf-shear", args, dir / "run.h5", dir / "log", 100, SIGTERM) != 1)
+  if (interrupted_run("gf-shear", args, dir / "run.h5", dir / "log", 0, SIGTERM) != 1)
     GTEST_SKIP() << "the run finished before it could be interrupted";
   std::filesystem::remove(dir / "log");
   // Like --threads, the limit cannot change the steps computed, so a resume may change it.
@@ -116,7 +116,7 @@ TEST(Unconverged, AResumeCountsTheStepsBeforeTheInterruption) {
   ScratchDir dir("unconverged_resume_count");
   const std::string args =
       "-i " + medium() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 5000 --max-iterations 1 -q";
-  if (interrupted_run("gf-shear", args + " --max-unconverged 1", dir / "run.h5", dir / "log", 100, SIGTERM) != 1)
+  if (interrupted_run("gf-shear", args + " --max-unconverged 1", dir / "run.h5", dir / "log", 0, SIGTERM) != 1)
     GTEST_SKIP() << "the run finished before it could be interrupted";
   std::filesystem::remove(dir / "log");
   ASSERT_TRUE(std::filesystem::exists(dir / ".run.h5.checkpoint"));
