@@ -103,7 +103,8 @@ void set_length(RunPlan& plan, std::int64_t total_steps) {
 namespace {
 
 // The partial output a checkpoint belongs to, among the output's temporaries not locked
-// by a live process (OutputFile has refused the run otherwise); "" if none is left.
+// by a live process (OutputFile has refused the run otherwise): by inode (a resume
+// renames it), else by name; "" if none is left.
 std::string find_partial(const Checkpoint& checkpoint, const OutputFile& out) {
   namespace fs = std::filesystem;
   if (checkpoint.partial_inode == 0) {
@@ -119,7 +120,10 @@ std::string find_partial(const Checkpoint& checkpoint, const OutputFile& out) {
         std::int64_t(st.st_ino) == checkpoint.partial_inode)
       return t;
   }
-  return "";
+  // Copied elsewhere (another file system, a backup restored): new inode, same name.
+  const std::string by_name = (fs::path(out.final_path()).parent_path() / checkpoint.partial).string();
+  std::error_code ec;
+  return by_name != out.temp_path() && fs::is_regular_file(by_name, ec) ? by_name : "";
 }
 
 }  // namespace

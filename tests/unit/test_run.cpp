@@ -327,6 +327,18 @@ TEST(RunResume, RefusalsAndFreshStarts) {
     EXPECT_EQ(checkpoint->partial, fs::path(partial).filename().string());
   }
   unchanged();
+  // Copied (a new inode under the same name, as after a move to another file system):
+  // still found.
+  fs::copy_file(partial, dir / "copy");
+  fs::rename(dir / "copy", partial);
+  {
+    const CommandLine cli = run_cli(out_path, resume);
+    OutputFile out(out_path, true);
+    const auto checkpoint = resume_point(cli, run_plan(cli), out, input);
+    ASSERT_TRUE(checkpoint.has_value());
+    EXPECT_EQ(checkpoint->partial_path, partial);
+  }
+  unchanged();
   // The input changed since the run started: refused, naming both hashes.
   std::ofstream(input) << "another start state";
   {
