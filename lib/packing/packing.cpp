@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "neighbours/cell_list.hpp"
+#include "packing/close_pairs.hpp"
 
 namespace granflow {
 namespace {
@@ -59,15 +59,8 @@ std::vector<double> draw_radii(std::int64_t n, double mean_diameter, double poly
 }
 
 double max_overlap(const Box& box, const std::vector<Vec2>& position, const std::vector<double>& radius) {
-  if (position.size() < 2) return 0;
-  const double r_max = *std::max_element(radius.begin(), radius.end());
-  std::vector<Vec2> wrapped = position;
-  Vec2 unused_velocity = Vec2::Zero();
-  for (Vec2& r : wrapped) box.wrap(r, unused_velocity, 0);
-  CellList cells;
-  cells.build(wrapped, box, 2 * r_max);
   double worst = 0;
-  cells.for_each_pair(wrapped,
+  for_each_close_pair(box, position, radius,
                       [&](int i, int j, const Vec2& d) { worst = std::max(worst, radius[i] + radius[j] - d.norm()); });
   return worst;
 }

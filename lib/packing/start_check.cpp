@@ -6,24 +6,17 @@
 
 #include "core/error.hpp"
 #include "io/schema.hpp"
-#include "neighbours/cell_list.hpp"
+#include "packing/close_pairs.hpp"
 
 namespace granflow {
 
 void check_start_grains(const std::string& path, std::size_t frame, const Box& box, const std::vector<Vec2>& position,
                         const std::vector<double>& radius) {
-  if (position.size() < 2) return;
-  const double r_max = *std::max_element(radius.begin(), radius.end());
-  std::vector<Vec2> wrapped = position;
-  Vec2 unused_velocity = Vec2::Zero();
-  for (Vec2& r : wrapped) box.wrap(r, unused_velocity, 0);
-  CellList cells;
-  cells.build(wrapped, box, 2 * r_max);
   // The worst pair by overlap relative to the smaller radius, the lowest (i, j) among equals,
   // so that the message does not depend on the cell order.
   double worst = 0, worst_distance = 0;
   int wi = -1, wj = -1;
-  cells.for_each_pair(wrapped, [&](int i, int j, const Vec2& d) {
+  for_each_close_pair(box, position, radius, [&](int i, int j, const Vec2& d) {
     const double distance = d.norm(), smaller = std::min(radius[i], radius[j]);
     const double share = (radius[i] + radius[j] - distance) / smaller;
     const int a = std::min(i, j), b = std::max(i, j);
