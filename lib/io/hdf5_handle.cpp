@@ -184,6 +184,42 @@ void read_rows(hid_t dataset, hsize_t first, hsize_t count, hid_t mem_type, void
 
 namespace {
 
+// An H5Ovisit callback: an exception must not unwind through the C library, so the
+// first failure is kept in *error and stops the walk.
+herr_t read_dataset_in_blocks(hid_t loc, const char* name, const H5O_info_t* info, void* error) try {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  Dataset dataset = open_dataset(loc, name);
+  Datatype type(check(H5Dget_type(dataset.get()), dataset.get(), "get type"));
+  // Variable-length data (strings h5py writes) is not chunked trajectory data.
+  if (H5Tis_variable_str(type.get()) > 0 || H5Tdetect_class(type.get(), H5T_VLEN) > 0) return 0;
+  const std::vector<hsize_t> dims = shape(dataset.get());
+  if (dims.empty()) return 0;
+  hsize_t row_elements = 1;
+  for (std::size_t i = 1; i < dims.size(); ++i) row_elements *= dims[i];
+  const std::size_t row_bytes = std::max<std::size_t>(1, std::size_t(row_elements) * H5Tget_size(type.get()));
+  const hsize_t block = std::max<hsize_t>(1, hsize_t((std::size_t(16) << 20) / row_bytes));
+  std::vector<unsigned char> buffer;
+  for (hsize_t first = 0; first < dims[0]; first += block) {
+    const hsize_t count = std::min(block, dims[0] - first);
+    buffer.resize(std::size_t(count) * row_bytes);
+    read_rows(dataset.get(), first, count, type.get(), buffer.data());
+  }
+  return 0;
+} catch (const std::exception& e) {
+  *static_cast<std::string*>(error) = e.what();
+  return -1;
+}
+
+}  // namespace
+
+void read_every_dataset(hid_t file) {
+  std::string error;
+  if (H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, read_dataset_in_blocks, &error, H5O_INFO_BASIC) < 0)
+    throw Hdf5Error(error.empty() ? where(file) + ": read every dataset: " + hdf5_reason() : error);
+}
+
+namespace {
+
 hsize_t elements_per_row(const std::vector<hsize_t>& dims) {
   hsize_t n = 1;
   for (std::size_t i = 1; i < dims.size(); ++i) n *= dims[i];

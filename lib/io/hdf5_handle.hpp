@@ -148,6 +148,10 @@ template <class T>
 std::vector<T> read_rows(hid_t dataset, hsize_t first, hsize_t count);
 template <class T>
 std::vector<T> read_all(hid_t dataset);
+// Reads every row of every fixed-size dataset in the file, in blocks, and throws Hdf5Error
+// naming the first one that cannot be read (a chunk overwritten or cut short). A file that
+// opens can still hold such a chunk: a process killed between two flushes leaves one.
+void read_every_dataset(hid_t file);
 
 // Attributes. Strings are stored as fixed-length UTF-8 (H5MD 1.1); reading also accepts
 // variable-length strings, as h5py writes them.

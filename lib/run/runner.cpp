@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
+#include "io/hdf5_handle.hpp"
 #include "io/provenance.hpp"
 #include "run/frames.hpp"
 
@@ -153,6 +154,14 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
     throw UsageError("'" + checkpoint.partial_path + "' has " + std::to_string(partial.frame_count()) +
                      " frame(s) but its checkpoint '" + plan.checkpoint_path + "' counts " +
                      std::to_string(checkpoint.stats.frames_written) + "; run without --resume to start over");
+  // A process killed between two flushes (kill -9, power loss) can leave a chunk of the
+  // partial output overwritten; continuing would write a final file that cannot be read.
+  try {
+    io::read_every_dataset(io::open_file(checkpoint.partial_path, /*writable=*/false).get());
+  } catch (const std::exception& e) {
+    throw UsageError("partial output '" + checkpoint.partial_path + "' is damaged (" + e.what() +
+                     "), as a process killed while writing can leave it; run without --resume to start over");
+  }
   const io::Parameters parameters = partial.parameters();
   if (!input_path.empty() && parameters.has("input_sha256")) {
     const std::string then = parameters.get_string("input_sha256"), now = sha256_file(input_path);

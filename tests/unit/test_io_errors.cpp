@@ -235,3 +235,34 @@ TEST_F(IoHandle, HandlesCloseWhenMovedAndDestroyed) {
 }
 
 }  // namespace
+
+// A chunk overwritten in place (what a process killed between two flushes can leave) is
+// found by reading every dataset, though the file opens and its shapes are right.
+TEST_F(IoReaderErrors, OverwrittenChunkIsFoundByReadingEveryDataset) {
+  const std::string path = valid("chunk.h5", 64, 12);
+  read_every_dataset(open_file(path, false).get());  // the intact file reads whole
+
+  haddr_t offset = 0;
+  hsize_t size = 0;
+  {
+    File f = open_file(path, false);
+    Dataset d = open_dataset(f.get(), "/particles/grains/position/value");
+    Dataspace space(H5Dget_space(d.get()));
+    unsigned filter_mask = 0;
+    std::vector<hsize_t> chunk_offset(3, 0);
+    ASSERT_GE(H5Dget_chunk_info(d.get(), space.get(), 0, chunk_offset.data(), &filter_mask, &offset, &size), 0);
+  }
+  ASSERT_GT(size, 16u);
+  {
+    std::fstream out(path, std::ios::in | std::ios::out | std::ios::binary);
+    out.seekp(std::streamoff(offset + size / 2));
+    const std::string garbage(8, '\x5a');
+    out.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  try {
+    read_every_dataset(open_file(path, false).get());
+    FAIL() << "an overwritten chunk was read without error";
+  } catch (const Hdf5Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/particles/grains/position/value"), std::string::npos) << e.what();
+  }
+}
