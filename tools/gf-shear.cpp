@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
     }
     set_length(plan, steps);
     plan.strain_per_step = rate * dt;
+    ShearTally tally;
+    plan.after_step = [&](const Engine& e) { tally.add(e.last_report()); };
+    plan.checkpoint_extra = [&](io::TrajectoryWriter& w) { tally.write(w); };
 
     const RunStart run_start{
         .grains = start.grains,
@@ -111,13 +114,16 @@ int main(int argc, char** argv) {
               parameters.set("grains", std::int64_t(g.size()));
               parameters.set("total_steps", std::int64_t(steps));
             },
-        .restore = {},  // nothing of its own in the checkpoints
+        // The collisions and dissipation counted since the last observable row.
+        .restore = [&](const io::TrajectoryReader& checkpoint) { tally.restore(checkpoint); },
     };
 
     refuse_output_among_inputs(cli.text("output"), {input_path});
     OutputFile out(cli.text("output"), /*resumable=*/true);
     StartedRun run = start_or_resume(cli, plan, out, run_start);
-    const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_shear_observables);
+    const RunStats stats =
+        run_resumable(run.engine, run.writer, out, plan, run.stats,
+                      [&](const Engine& e, io::TrajectoryWriter& w) { record_shear_observables(e, w, tally); });
     finish_run(cli, run.writer, out, run.engine, stats, plan);
     return 0;
   });

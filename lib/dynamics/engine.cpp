@@ -1226,6 +1226,7 @@ void Engine::record_contacts() {
     fit(prev_fn_);
     fit(prev_ft_);
     fit(prev_age_);
+    fit(dissipated_);
   };
   auto record = [&](std::ptrdiff_t c, std::size_t q) {
     const Row& r = rows_[row_of_[c]];
@@ -1245,6 +1246,7 @@ void Engine::record_contacts() {
     records_.binary_force[q] = (1 + e) * r.inv_w * std::max(0.0, -un) / dt_;
     records_.pre_normal_velocity[q] = {vi.dot(n), vj.dot(n)};
     records_.age[q] = age;
+    dissipated_[q] = dissipated(r, c, i, j, shift);
     prev_key_[q] = pair_key(i, j);
     prev_fn_[q] = fn;
     prev_ft_[q] = ft;
@@ -1260,6 +1262,32 @@ void Engine::record_contacts() {
       resize, record);
   report_.candidates = int(rows_.size());
   report_.contacts = int(records_.size());
+  // Summed in candidate order: the same number for any thread count.
+  int born = 0;
+  double lost = 0;
+  for (std::size_t q = 0; q < records_.size(); ++q) {
+    born += records_.age[q] == 1;
+    lost += dissipated_[q];
+  }
+  report_.collisions = born;
+  report_.dissipated_energy = lost;
+}
+
+// −P·ū of row r (candidate c, grains i and j): ū at the mean of the free velocities (the
+// pre-step state, still in state_, plus gravity) and the post-step ones (in bodies_).
+double Engine::dissipated(const Row& r, std::size_t c, int i, int j, double shift) const {
+  const Body& a = bodies_[r.i];
+  const Body& b = bodies_[r.j];
+  auto free_v = [&](int g) { return state_.fixed[g] ? state_.velocity[g] : Vec2(state_.velocity[g] + dt_ * gravity_); };
+  const Vec2 va = 0.5 * (free_v(i) + Vec2(a.vx, a.vy));
+  const Vec2 vb = 0.5 * (free_v(j) + Vec2(b.vx, b.vy));
+  const double sa = 0.5 * (state_.radius[i] * state_.angular_velocity[i] + a.spin);
+  const double sb = 0.5 * (state_.radius[j] * state_.angular_velocity[j] + b.spin);
+  const double ux = va.x() - vb.x() - shift, uy = va.y() - vb.y();
+  const double un = ux * r.nx + uy * r.ny;
+  const double ut = -ux * r.ny + uy * r.nx - sa - sb;
+  const double pt = tangent_.empty() ? 0.0 : tangent_[row_of_[c]].pt;
+  return -(r.pn * un + pt * ut);
 }
 
 void Engine::store_bodies() {
@@ -1327,7 +1355,7 @@ std::size_t Engine::allocated_bytes() const {
          bytes(cluster_) + bytes(cluster_id_) + bytes(cluster_start_) + bytes(cluster_rows_) + bytes(body_start_) +
          bytes(body_rows_) + bytes(degree_) + bytes(unknown_) + bytes(prev_key_) + bytes(prev_fn_) + bytes(prev_ft_) +
          bytes(prev_age_) + bytes(r.pair) + bytes(r.normal_force) + bytes(r.tangential_force) + bytes(r.branch) +
-         bytes(r.binary_force) + bytes(r.pre_normal_velocity) + bytes(r.age);
+         bytes(r.binary_force) + bytes(r.pre_normal_velocity) + bytes(r.age) + bytes(dissipated_);
 }
 
 ContactMemory Engine::memory() const {

@@ -102,6 +102,15 @@ struct StepReport {
   int largest_cluster = 0;           // active rows of the largest cluster solved exactly
   bool pairs_rebuilt = false;        // the pair list was rebuilt for the next step
   double max_overlap = 0;            // max(0, −g) over all pairs after the position update
+  // Collisions: contacts born in this step (P_n > 0 now, none the step before: age 1).
+  int collisions = 0;
+  // Kinetic energy (translational plus rotational) the contact impulses removed in this step:
+  // −Σ_contacts P·ū, ū the relative contact-point velocity (image shift included) at the mean of
+  // each grain's free and post-step velocities. It is exactly the kinetic energy the impulses take
+  // out minus the work of the Lees–Edwards images (Σ P_x·k·γ̇·Ly), hence the same in the lab and the
+  // sheared frame; (1 − e²)·m_red·u_n²/2 for a binary collision, 0 up to the solver tolerance when
+  // e = 1 without friction.
+  double dissipated_energy = 0;
 };
 
 // What a step passes to the next one: the contacts' forces (warm start P = F·dt) and
@@ -209,6 +218,7 @@ class Engine {
   double cluster_residual(const ClusterScratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
   void record_contacts();
+  double dissipated(const Row& r, std::size_t c, int i, int j, double shift) const;
   void store_bodies();
   void advance();
 
@@ -280,6 +290,7 @@ class Engine {
   std::vector<int> prev_age_;
 
   ContactRecords records_;
+  std::vector<double> dissipated_;  // per recorded contact: its share of dissipated_energy
   StepReport report_;
   double overlap_ = 0;
 };

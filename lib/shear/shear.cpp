@@ -83,7 +83,35 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
   return start;
 }
 
-void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer) {
+namespace {
+const std::string kTally = "/shear_tally";
+}
+
+void ShearTally::add(const StepReport& report) {
+  collisions += report.collisions;
+  dissipated_energy += report.dissipated_energy;
+  ++steps;
+}
+
+void ShearTally::write(io::TrajectoryWriter& checkpoint) const {
+  io::Parameters p;
+  p.set("collisions", collisions);
+  p.set("dissipated_energy", dissipated_energy);
+  p.set("steps", steps);
+  checkpoint.write_attributes(kTally, p);
+}
+
+void ShearTally::restore(const io::TrajectoryReader& checkpoint) {
+  const io::Parameters p = checkpoint.attributes(kTally);
+  if (!p.has("collisions") || !p.has("dissipated_energy") || !p.has("steps"))
+    throw UsageError("checkpoint '" + checkpoint.path() + "' holds no collision and dissipation tally (" + kTally +
+                     "): it was written by an older gf-shear; run without --resume to start over");
+  collisions = p.get_int("collisions");
+  dissipated_energy = p.get_double("dissipated_energy");
+  steps = p.get_int("steps");
+}
+
+void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer, ShearTally& tally) {
   const std::int64_t step = engine.step_count();
   const double time = engine.time();
   const StressTensors s = stress(engine.state(), engine.box(), engine.rate(), engine.contacts());
@@ -97,6 +125,9 @@ void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer
   writer.append_observable("stress_kinetic", step, time, s.kinetic);
   writer.append_observable("stress_static", step, time, s.contact);
   writer.append_observable("stress_collisional", step, time, s.collisional);
+  writer.append_observable("collisions", step, time, double(tally.collisions));
+  writer.append_observable("dissipated_energy", step, time, tally.dissipated_energy);
+  tally = {};
 }
 
 }  // namespace granflow

@@ -57,10 +57,53 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
   ASSERT_EQ(ref.frame_count(), cut.frame_count());
   for (std::size_t k = 0; k < ref.frame_count(); ++k)
     expect_same_frame(ref.frame(k), cut.frame(k), "frame " + std::to_string(k));
-  for (const char* name : {"pressure", "shear_stress", "temperature", "solver_iterations"}) {
+  for (const char* name :
+       {"pressure", "shear_stress", "temperature", "solver_iterations", "collisions", "dissipated_energy"}) {
     EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
     EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
   }
+}
+
+// The collisions and dissipated energy accumulated since the last observable row are part of
+// the checkpoint: with rows 250 steps apart, an interruption almost surely falls between two.
+TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
+  ScratchDir dir("shear_resume_tally");
+  const std::string steps = " --steps 3000 --observe-every 250 ";
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
+  const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
+  const int code = interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log1", 300);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 1);
+  auto resumed = run_tool("gf-shear", args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  io::TrajectoryReader ref(dir / "ref.h5"), cut(dir / "cut.h5");
+  for (const char* name : {"collisions", "dissipated_energy"}) {
+    EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
+    EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
+  }
+}
+
+// Each row holds what happened since the previous one: the rows sum to the same totals
+// whatever --observe-every is.
+TEST(GfShearObservables, TalliesSumToTheSameTotalsWhateverObserveEvery) {
+  ScratchDir dir("shear_tally_rows");
+  const std::string run = "-i " + packing() + " --steps 700 " + kRun;
+  ASSERT_EQ(run_tool("gf-shear", run + " --observe-every 1 -o " + (dir / "every.h5")).exit_code, 0);
+  ASSERT_EQ(run_tool("gf-shear", run + " --observe-every 7 -o " + (dir / "seventh.h5")).exit_code, 0);
+  io::TrajectoryReader every(dir / "every.h5"), seventh(dir / "seventh.h5");
+  auto sum = [](const std::vector<double>& x) {
+    double s = 0;
+    for (double v : x) s += v;
+    return s;
+  };
+  ASSERT_EQ(every.observable_scalar("collisions").size(), 700u);
+  ASSERT_EQ(seventh.observable_scalar("collisions").size(), 100u);
+  const double collisions = sum(every.observable_scalar("collisions"));
+  EXPECT_GT(collisions, 100);
+  EXPECT_EQ(collisions, sum(seventh.observable_scalar("collisions")));
+  const double lost = sum(every.observable_scalar("dissipated_energy"));
+  EXPECT_GT(lost, 0);
+  EXPECT_NEAR(lost, sum(seventh.observable_scalar("dissipated_energy")), 1e-12 * lost);
 }
 
 TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
