@@ -82,6 +82,14 @@ inline void add_fluctuations(GrainState& s, double scale, std::uint64_t seed) {
   for (std::size_t i = 0; i < s.size(); ++i) s.velocity[i] -= momentum / mass;
 }
 
+// A square box of side l, periodic in x and y, without shear.
+inline Box periodic_square(double l) {
+  Box b;
+  b.lx = b.ly = l;
+  b.periodic_y = true;
+  return b;
+}
+
 inline double kinetic_energy(const GrainState& s) {
   double e = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {

@@ -16,13 +16,6 @@
 namespace granflow {
 namespace {
 
-Box periodic_square(double l) {
-  Box b;
-  b.lx = b.ly = l;
-  b.periodic_y = true;
-  return b;
-}
-
 // Two equal disks (R = 0.5) on one line in a periodic box of side L, moving towards each
 // other at ±v. Elastic and frictionless, they exchange velocities at each collision, so the
 // pair's gaps (one on each side, summing to L − 4R) close at 2v in turn: collisions at
@@ -39,7 +32,7 @@ TEST(Collisions, TwoDisksInAPeriodicBoxCountedInClosedForm) {
   ASSERT_EQ(expected, 7);
 
   const double dt = 1.0 / 256;
-  Engine engine(s, periodic_square(l), 0.0, {1.0, 0.0, 0.0}, {}, dt);
+  Engine engine(s, test::periodic_square(l), 0.0, {1.0, 0.0, 0.0}, {}, dt);
   const long steps = std::lround(end / dt);
   long counted = 0, births = 0;
   for (long k = 0; k < steps; ++k) {
@@ -66,7 +59,7 @@ TEST(Dissipation, HeadOnCollisionMatchesClosedForm) {
     const double un = -1.3;
     const double expected = 0.5 * (1 - e * e) * mred * un * un;
     const double before = energy(s);
-    Engine engine(s, periodic_square(24), 0.0, {e, 0.0, 0.0}, {}, 0.01);
+    Engine engine(s, test::periodic_square(24), 0.0, {e, 0.0, 0.0}, {}, 0.01);
     double total = 0;
     int collisions = 0;
     for (int k = 0; k < 300; ++k) {
@@ -93,7 +86,7 @@ TEST(Dissipation, FrictionalObliqueCollisionEqualsKineticEnergyLost) {
   s.angular_velocity[0] = 0.7;
   s.angular_velocity[1] = -1.1;
   const double before = energy(s);
-  Engine engine(s, periodic_square(24), 0.0, {0.6, 0.2, 0.5}, {}, 0.01);
+  Engine engine(s, test::periodic_square(24), 0.0, {0.6, 0.2, 0.5}, {}, 0.01);
   double total = 0;
   for (int k = 0; k < 150; ++k) total += engine.step().dissipated_energy;
   EXPECT_GT(total, 0.01 * before);

@@ -12,13 +12,6 @@
 namespace granflow {
 namespace {
 
-Box periodic_square(double l) {
-  Box b;
-  b.lx = b.ly = l;
-  b.periodic_y = true;
-  return b;
-}
-
 double inertia(const GrainState& s, int i) { return 0.5 * s.mass[i] * s.radius[i] * s.radius[i]; }
 
 class HeadOn : public ::testing::TestWithParam<double> {};
@@ -33,7 +26,7 @@ TEST_P(HeadOn, RestitutionExactNoOverlap) {
   s.velocity[0] = -0.9 * n + 0.2 * perp(n);  // a glancing component: the normal at impact is not n
   s.velocity[1] = 0.6 * n;
   const double dt = 0.01;
-  Engine engine(s, periodic_square(24), 0.0, {e, 0.0, 0.0}, {}, dt);
+  Engine engine(s, test::periodic_square(24), 0.0, {e, 0.0, 0.0}, {}, dt);
   const double mi = s.mass[0], mj = s.mass[1];
   const Vec2 momentum = mi * s.velocity[0] + mj * s.velocity[1];
 
@@ -95,7 +88,7 @@ TEST_P(ObliqueCollision, MatchesClosedForm) {
   GrainState s = make_grains({Vec2(10, 10), Vec2(10, 10) - (ri + rj + 1e-4) * n}, {ri, rj});
   s.velocity = {c.vi, c.vj};
   s.angular_velocity = {c.wi, c.wj};
-  Engine engine(s, periodic_square(20), 0.0, {e, c.et, c.mu}, {}, dt);
+  Engine engine(s, test::periodic_square(20), 0.0, {e, c.et, c.mu}, {}, dt);
   engine.step();
   ASSERT_EQ(engine.contacts().size(), 1u);
 
@@ -188,7 +181,7 @@ TEST(TwoDisk, MeshingGearsFeelNoFriction) {
   s.velocity = {Vec2(0.3, -1.0), Vec2(0.0, 0.0)};
   // u_t = (v_i − v_j)·t̂ − (R_i ω_i + R_j ω_j) with t̂ = (−1, 0): −0.3 − (0.5·ω_i + 0.9·ω_j) = 0.
   s.angular_velocity = {0.6, -2.0 / 3.0};
-  Engine engine(s, periodic_square(20), 0.0, {0.5, 0.0, 1.0}, {}, 1e-3);
+  Engine engine(s, test::periodic_square(20), 0.0, {0.5, 0.0, 1.0}, {}, 1e-3);
   engine.step();
   ASSERT_EQ(engine.contacts().size(), 1u);
   EXPECT_NEAR(engine.contacts().tangential_force[0], 0.0, 1e-12 * engine.contacts().normal_force[0]);
