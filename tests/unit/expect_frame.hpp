@@ -4,6 +4,9 @@
 // promise the same values, not close ones.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
+#include <string>
+
 #include "io/trajectory.hpp"
 
 namespace granflow::test_support {
@@ -39,6 +42,26 @@ inline void expect_same_frame(const io::Frame& read, const io::Frame& written) {
   EXPECT_EQ(read.time, written.time);
   expect_same_grains(read, written);
   expect_same_contacts(read.contacts, written.has_contacts ? written.contacts : ContactRecords{});
+}
+
+// Two runs that must be the same (a resumed one against an uninterrupted one): every
+// frame, and the rows and steps of the named observables.
+inline void expect_same_run(const std::string& a_path, const std::string& b_path,
+                            std::initializer_list<const char*> observables) {
+  io::TrajectoryReader a(a_path), b(b_path);
+  ASSERT_EQ(a.frame_count(), b.frame_count());
+  for (std::size_t k = 0; k < a.frame_count(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const io::Frame fa = a.frame(k), fb = b.frame(k);
+    EXPECT_EQ(fa.step, fb.step);
+    EXPECT_EQ(fa.time, fb.time);
+    expect_same_grains(fa, fb);
+    expect_same_contacts(fa.contacts, fb.contacts);
+  }
+  for (const char* name : observables) {
+    EXPECT_EQ(a.observable_scalar(name), b.observable_scalar(name)) << name;
+    EXPECT_EQ(a.observable_step(name), b.observable_step(name)) << name;
+  }
 }
 
 }  // namespace granflow::test_support
