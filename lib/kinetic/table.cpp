@@ -280,11 +280,16 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
   for (std::size_t k : frames) {
     const io::Frame frame = o.reader.frame(k);
     double births = 0, product = 0;
-    for (std::size_t c = 0; c < frame.contacts.size(); ++c)
+    for (std::size_t c = 0; c < frame.contacts.size(); ++c) {
+      // The reader checks every value; a pair of one grain with itself is no collision.
+      if (frame.contacts.pair[c][0] == frame.contacts.pair[c][1])
+        throw bad("/contacts/pair: frame " + std::to_string(k) + ", contact " + std::to_string(c) + " joins grain " +
+                  std::to_string(frame.contacts.pair[c][0]) + " with itself");
       if (frame.contacts.age[c] == 1) {
         births += 1;
         product += frame.contacts.pre_normal_velocity[c][0] * frame.contacts.pre_normal_velocity[c][1];
       }
+    }
     run.births.push_back(births);
     run.birth_velocity_product.push_back(product);
     const double mean_spin = mean(frame.angular_velocity);

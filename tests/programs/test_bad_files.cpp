@@ -80,6 +80,7 @@ const std::map<std::string, std::string> kCommand = {
     {"gf-shear", "-i F -o OUT --steps 2 --quiet"},
     {"gf-incline", "-i F -o OUT --angle 20 --steps 20 --profile-block 10 --quiet"},
     {"gf-correlate", "F -o OUT --from-strain 0 --quiet"},
+    {"gf-kinetic", "F -o OUT --from-strain 0 --quiet"},
 };
 
 ToolResult run_on(const std::string& program, const std::string& file, const std::string& out) {
@@ -158,7 +159,7 @@ const std::string kMass = "/particles/grains/mass";
 std::vector<Crafted> crafted_cases() {
   const Sources& s = sources();
   const std::vector<std::string> starts = {"gf-pack", "gf-shear"};
-  const std::vector<std::string> runs = {"gf-shear", "gf-correlate"};
+  const std::vector<std::string> runs = {"gf-shear", "gf-correlate", "gf-kinetic"};
   auto set = [](std::string dataset, std::size_t flat, double value) {
     return [=](const std::string& f) { poke(f, dataset, flat, value); };
   };
@@ -317,6 +318,7 @@ TEST(BadFilesControl, UndamagedSourcesAreAccepted) {
                                                                                       {"gf-pack", s.shear},
                                                                                       {"gf-shear", s.shear},
                                                                                       {"gf-correlate", s.shear},
+                                                                                      {"gf-kinetic", s.shear},
                                                                                       {"gf-incline", s.incline},
                                                                                       {"gf-incline", s.incline_run}}) {
     const ToolResult r = run_on(program, file, out / "out.h5");
@@ -330,7 +332,7 @@ TEST(BadFilesControl, DensePackingWithResidualOverlapsStarts) {
   const std::string dense = dir / "dense.h5";
   ASSERT_EQ(run_tool("gf-pack", "--grains 200 --packing-fraction 0.9 --seed 3 --quiet -o " + dense).exit_code, 0);
   // The start is what is tested, not the convergence of a first step from ν = 0.9.
-  const ToolResult r = run_tool("gf-shear", "-i " + dense + " -o " + (dir / "out.h5") +
-                                                " --steps 2 --max-unconverged 1 -q");
+  const ToolResult r =
+      run_tool("gf-shear", "-i " + dense + " -o " + (dir / "out.h5") + " --steps 2 --max-unconverged 1 -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }

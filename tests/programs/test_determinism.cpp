@@ -61,8 +61,9 @@ TEST(Determinism, PackShearAndCorrelateTwiceGiveTheSameBytes) {
                      {"gf-shear",
                       "-i pack.h5 -o run.h5 --rate 1 --steps 400 --frame-every 20 --restitution 0.5 "
                       "--friction 0.4 --quiet"},
-                     {"gf-correlate", "run.h5 -o corr.h5 --from-strain 0.1 --blocks 4 --quiet"}},
-                    {"pack.h5", "run.h5", "corr.h5"});
+                     {"gf-correlate", "run.h5 -o corr.h5 --from-strain 0.1 --blocks 4 --quiet"},
+                     {"gf-kinetic", "run.h5 -o kinetic.h5 --from-strain 0.1 --quiet"}},
+                    {"pack.h5", "run.h5", "corr.h5", "kinetic.h5"});
 }
 
 TEST(Determinism, ShearWithTwoThreadsTwiceGivesTheSameBytes) {

@@ -112,6 +112,7 @@ TEST(OutputsSameFile, NoProgramWritesOverItsInput) {
       {"gf-incline", incline, "-i " + incline + " --steps 500 " + kIncline + " -o {out}"},
       {"gf-correlate", run, run + " --quiet -o {out}"},
       {"gf-correlate", run, dir / "other.h5" + std::string(" --reference ") + run + " --quiet -o {out}"},
+      {"gf-kinetic", run, run + " --from-strain 0 --quiet -o {out}"},
   };
   for (const Case& c : cases) {
     const fs::path input(c.input);
