@@ -24,17 +24,18 @@ std::vector<std::string> comma_list(const std::string& text) {
 
 int main(int argc, char** argv) {
   return run_tool("gf-kinetic", [&] {
-    CommandLine cli(
-        "gf-kinetic", "RUN.h5... -o OUT.h5 [--equilibrium EQ.h5,...] [options]",
-        "Kinetic theory against gf-shear trajectories (thesis 6.1): per run, over a window past the transient,\n"
-        "the thesis' temperature T (translational, not mass-weighted), the static and collisional pressure and\n"
-        "shear stress (eqs. 2.8, 6.2), the Enskog predictions p0(1+e)chi nu (eq. 6.9) and s (eq. 6.10 as printed\n"
-        "and the 2D Garzo-Dufty viscosity), the collision frequency counted two ways (per-step observable and\n"
-        "age-1 contacts of the stored frames), the pre-collisional velocity correlation C_v (eq. 6.11, per\n"
-        "collision, baseline -1/4) and the energy balance (dissipation rate over s*rate*Lx*Ly). chi is measured\n"
-        "in --equilibrium runs (e = 1, rate 0) from the collision frequency, chi = omega/(n sigma sqrt(2 pi T)),\n"
-        "beside chi from their pressure, and interpolated at each run's nu; without them Henderson's formula.\n"
-        "Errors are blocked standard errors. Output: one HDF5 table, one row per run (docs/file-format.md).");
+    CommandLine cli("gf-kinetic", "RUN.h5... -o OUT.h5 [--equilibrium EQ.h5,...] [options]",
+                    "Kinetic theory against gf-shear trajectories (thesis 6.1). Per run, over a window past the\n"
+                    "transient: the thesis' temperature T (translational, not mass-weighted), the static and\n"
+                    "collisional pressure and shear stress (eqs. 2.8, 6.2), the Enskog predictions p0(1+e)chi nu\n"
+                    "(eq. 6.9) and s (eq. 6.10 as printed, and the 2D Garzo-Dufty viscosity), the collision\n"
+                    "frequency counted two ways (per-step observable; age-1 contacts of the stored frames), the\n"
+                    "pre-collisional velocity correlation C_v (eq. 6.11, per collision, baseline -1/4) and the\n"
+                    "energy balance (dissipation rate over s*rate*Lx*Ly). chi is measured in --equilibrium runs\n"
+                    "(e = 1, rate 0) from the collision frequency, chi = omega/(n sigma sqrt(2 pi T)), beside chi\n"
+                    "from their pressure, and interpolated at each run's nu; without them, Henderson's formula.\n"
+                    "Errors are blocked standard errors. Output: one HDF5 table, one row per run\n"
+                    "(docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of /runs each", 1);
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.text_option("equilibrium", 0, "FILES",
