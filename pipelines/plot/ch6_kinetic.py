@@ -21,11 +21,20 @@ from granflow_py.plotting import plt, save_figure
 
 
 def points(ax, nu, y, err, full, color, marker, label):
-    """Error bars for every point, filled markers where `full`, open ones elsewhere."""
-    ax.errorbar(nu, y, yerr=err, fmt="none", ecolor=color, elinewidth=0.8, capsize=2)
+    """Error bars for every point a log axis can show (finite, positive), filled markers where
+    `full`, open ones elsewhere."""
+    shown = np.isfinite(y) & (y > 0)
+    nu, y, err, full = nu[shown], y[shown], np.where(np.isfinite(err[shown]), err[shown], 0), full[shown]
+    ax.errorbar(nu, y, yerr=np.minimum(err, 0.999 * y), fmt="none", ecolor=color, elinewidth=0.8, capsize=2)
     ax.plot(nu[full], y[full], marker, color=color, ms=5, ls="none")
     ax.plot(nu[~full], y[~full], marker, color=color, mfc="none", ms=5, ls="none")
     ax.plot([], [], marker, color=color, mfc="none", ls="none", label=label)
+
+
+def curve(ax, nu, y, style, color, label):
+    """A prediction through the runs' ν, where a log axis can show it."""
+    shown = np.isfinite(y) & (y > 0)
+    ax.plot(nu[shown], y[shown], style, color=color, lw=1, label=label)
 
 
 def main():
@@ -56,17 +65,14 @@ def main():
                 y = kt.column(table, name)[rows] / p0[rows]
                 err = kt.column(table, name + "_error")[rows] / p0[rows]
                 points(left, nu, y, err, full, c, marker, f"${what}/p^0$, e = {e:g}")
-            left.plot(nu, kt.column(table, "p_enskog")[rows] / p0[rows], "-", color=c, lw=1,
-                      label=f"$(1+e)\\chi\\nu$, e = {e:g}")
+            curve(left, nu, kt.column(table, "p_enskog")[rows] / p0[rows], "-", c, f"$(1+e)\\chi\\nu$, e = {e:g}")
             scale = rate[rows] * eta0[rows]
             for name, marker, what in (("s_static", "o", "s^s"), ("s_collisional", "s", "s^{bc}")):
                 y = kt.column(table, name)[rows] / scale
                 err = kt.column(table, name + "_error")[rows] / scale
                 points(right, nu, y, err, full, c, marker, f"${what}/\\dot\\gamma\\eta^0$, e = {e:g}")
-            right.plot(nu, kt.column(table, "s_enskog_thesis")[rows] / scale, "--", color=c, lw=1,
-                       label=f"eq. 6.10 as printed, e = {e:g}")
-            right.plot(nu, kt.column(table, "s_enskog_2d")[rows] / scale, ":", color=c, lw=1.2,
-                       label=f"2D Garzó–Dufty, e = {e:g}")
+            curve(right, nu, kt.column(table, "s_enskog_thesis")[rows] / scale, "--", c, f"eq. 6.10 as printed, e = {e:g}")
+            curve(right, nu, kt.column(table, "s_enskog_2d")[rows] / scale, ":", c, f"2D Garzó–Dufty, e = {e:g}")
         cv, cv_err = kt.column(table, "velocity_correlation")[rows], kt.column(table, "velocity_correlation_error")[rows]
         shown = np.isfinite(cv)
         inset.errorbar(nu[shown], cv[shown], yerr=cv_err[shown], fmt="none", ecolor=c, elinewidth=0.8, capsize=2)
