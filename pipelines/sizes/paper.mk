@@ -6,7 +6,7 @@ PACK_SEEDS  := 1
 # at ν ≈ 0.4, so the grid starts below it; dense steps of 0.01 up to 0.83 < ν_max = 0.84),
 # restitutions 0, 0.25, 0.5, 0.75, 0.92; Fig 4.2 at ν = 0.8 with γ̇ = 1e-2 and 1e2.
 CH4_NU            := 0.100 0.200 0.300 $(PACK_NU) 0.830
-CH4_E             := 0.00 0.25 0.50 0.75 0.92
+CH4_E             := 0.00 0.10 0.25 0.50 0.75 0.92
 CH4_RATE          := 1e-02
 CH4_BAGNOLD_NU    := 0.800
 CH4_BAGNOLD_RATES := 1e-02 1e+02
@@ -29,7 +29,7 @@ SHEAR_LONG_FRAME_EVERY := 400
 # without their values: 0, 0.1 and 0.4 here, 0.4 being the thesis' frictional case), up to
 # ν = 0.80 (frictional flows jam earlier; Fig 4.10 stops there too).
 CH5_NU            := $(CH4_NU)
-CH5_E             := 0.00 0.25 0.50 0.75 0.92
+CH5_E             := 0.00 0.10 0.25 0.50 0.75 0.92
 CH5_MU            := 0.00 0.10 0.40
 CH5_FRICTION_E    := 0.00
 CH5_FRICTION_NU   := $(filter-out 0.810 0.820 0.830,$(CH5_NU))
@@ -45,6 +45,18 @@ CH5_WINDOW_STEPS  := 2
 CH4_FRICTION_NU   := 0.700 0.740 0.760 0.770 0.780 0.790 0.800
 CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
+# Chapter 6, kinetic theory (gf-kinetic): the μ = 0 runs of the chapter-4 grid at CH4_RATE, and
+# elastic (e = 1) unsheared runs at every ν of that grid for χ (packings at ν outside PACK_NU are
+# made by the same rule). PROVISIONAL recipe (placeholders until the equilibrium study measures
+# one; see quick.mk).
+CH6_EQ_NU            := $(CH4_NU)
+CH6_EQ_SEED          := $(CH4_SEED)
+CH6_EQ_DT            := 1e-4
+CH6_EQ_WARMUP_STEPS  := 2000
+CH6_EQ_STEPS         := 20000
+CH6_EQ_FRAME_EVERY   := 1000
+CH6_EQ_OBSERVE_EVERY := 10
+CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
 # Chapter 4, incline: the thesis' sizes are "heights and widths ranging between 25 and 300
 # grain diameters" (§4.3.1); here a layer 50 diameters thick on a base 100 wide (~5·10³
 # grains), the default step 2e-3 τ, 2000 τ per run (the transient grows with the height:

@@ -9,7 +9,7 @@ PACK_SEEDS  := 1
 # runs of chapters 4 and 5 (those at SHEAR_LONG_NU 40 strain units long) all finished within
 # 9 min of wall time; SHEAR_STRAIN is the knob (make SHEAR_STRAIN=3 ...).
 CH4_NU            := $(PACK_NU)
-CH4_E             := 0.00 0.25 0.50 0.75 0.92
+CH4_E             := 0.00 0.10 0.25 0.50 0.75 0.92
 CH4_RATE          := 1e-02
 CH4_BAGNOLD_NU    := 0.800
 CH4_BAGNOLD_RATES := 1e-02 1e+02
@@ -36,7 +36,7 @@ SHEAR_LONG_FRAME_EVERY := 160
 # at CH5_REFERENCE_NU, e = CH5_REFERENCE_E. Fig 5.1: a CH5_WINDOW_STEPS-step branch
 # (--frame-every 1) from the end of the runs at CH5_CLUSTER_NU for each CH5_CLUSTER_E.
 CH5_NU            := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780 0.790 0.800 0.810 0.820
-CH5_E             := 0.00 0.25 0.50 0.75 0.92
+CH5_E             := 0.00 0.10 0.25 0.50 0.75 0.92
 CH5_MU            := 0.00 0.40
 CH5_FRICTION_E    := 0.00
 CH5_FRICTION_NU   := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780
@@ -56,6 +56,19 @@ CH4_FRICTION_NU   := 0.700 0.760 0.780 0.790
 CH4_FRICTION_E    := 0.50
 # μ = 0 shear runs at e = CH4_FRICTION_E bracketing the incline's bulk ν (0.81-0.83 at 10-14°).
 CH4_INCLINE_NU    := 0.810 0.825
+# Chapter 6, kinetic theory (gf-kinetic): the μ = 0 runs of the chapter-4 grid at CH4_RATE, and
+# elastic (e = 1) unsheared runs at every ν of that grid for χ (from its packing; CH6_EQ_NU must
+# cover the sheared runs' ν: gf-kinetic does not extrapolate without --extrapolate).
+# PROVISIONAL recipe (placeholders until the equilibrium study measures one: step CH6_EQ_DT, a
+# discarded warm-up of CH6_EQ_WARMUP_STEPS from the packing, CH6_EQ_STEPS production steps).
+CH6_EQ_NU            := $(CH4_NU)
+CH6_EQ_SEED          := $(CH4_SEED)
+CH6_EQ_DT            := 1e-4
+CH6_EQ_WARMUP_STEPS  := 2000
+CH6_EQ_STEPS         := 20000
+CH6_EQ_FRAME_EVERY   := 1000
+CH6_EQ_OBSERVE_EVERY := 10
+CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
 # grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. Cost: docs/performance.md, gf-incline.
 INCLINE_WIDTH           := 40

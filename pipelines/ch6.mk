@@ -1,0 +1,61 @@
+# Chapter 6, kinetic theory (thesis §6.1, Figs 6.1-6.3); grids in pipelines/sizes/$(SIZE).mk.
+#
+# Equilibrium runs (χ, the pair correlation at contact, from the collision frequency):
+# $(RUNS)/eq_nu<ν>_s<seed>.h5 for every ν of CH6_EQ_NU (a ν of PACK_NU: made from the packing
+# of that ν), gf-shear --rate 0 --temperature 1 --restitution 1 at the step CH6_EQ_DT for
+# CH6_EQ_STEPS steps. With CH6_EQ_WARMUP_STEPS > 0 a warm-up run $(RUNS)/eqwarm_nu<ν>_s<seed>.h5
+# of that many steps goes first, from the packing, and is discarded: the production run starts
+# from its last frame (the packing's exactly touching pairs make the first steps inject energy).
+# Like the shear run lengths, these settings are not in the names: after changing them, remove
+# the runs (clean-runs).
+# Table: $(RUNS)/ch6_kinetic.h5, gf-kinetic over the μ = 0 runs of the chapter-4 sweep at
+# CH4_RATE (the same shear runs chapters 4 and 5 use: no new shear runs), with the equilibrium
+# runs; gf-kinetic's window rule is gf-correlate's (--from-strain CH6_FROM_STRAIN
+# --detect-transient). Figures $(FIGURES)/fig6_{1,2,3}.png: pipelines/plot/ch6_kinetic.py over
+# the table and gf-correlate's chapter-5 table (ξ/ξ_el colours the points), one restitution
+# pair each. A change of gf-kinetic's code redoes the table, the figures and the report only.
+
+CH6_EQ_NU          ?= $(CH4_NU)
+CH6_EQ_SEED        ?= $(CH4_SEED)
+eq_run              = $(RUNS)/eq_nu$(1)_s$(2).h5
+CH6_EQ_RUNS        := $(foreach nu,$(CH6_EQ_NU),$(call eq_run,$(nu),$(CH6_EQ_SEED)))
+# The rows of the table: every μ = 0 run of the chapter-4 ν × e grid.
+CH6_RUNS           := $(foreach e,$(CH4_E),$(foreach nu,$(CH4_NU),\
+                        $(call shear_run,$(nu),$(e),0.00,$(CH4_RATE),$(CH4_SEED))))
+CH6_TABLE          := $(RUNS)/ch6_kinetic.h5
+CH6_ANALYSIS       := $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
+# The restitution pair of each figure (thesis Figs 6.1, 6.2, 6.3).
+CH6_PAIR_1         := 0.92 0.75
+CH6_PAIR_2         := 0.50 0.25
+CH6_PAIR_3         := 0.10 0.00
+# A figure whose pair has no restitution in CH4_E (a small size's grid) is left out.
+CH6_FIGURES        := $(foreach k,1 2 3,$(if $(filter $(CH6_PAIR_$(k)),$(CH4_E)),$(FIGURES)/fig6_$(k).png))
+# gf-kinetic's settings beyond its defaults (e.g. --extrapolate).
+CH6_KINETIC_ARGS   ?=
+
+ch6-files: $(CH6_FIGURES) $(CH6_TABLE)
+
+# Stem "<ν>_s<seed>", as for the packings. The production run starts from the warm-up's last
+# frame (its velocities kept: --temperature only thermalises a packing at rest), or from the
+# packing at --temperature 1 when CH6_EQ_WARMUP_STEPS is 0.
+ch6_warm     = $(filter-out 0,$(CH6_EQ_WARMUP_STEPS))
+ch6_eq_start = $(if $(ch6_warm),$(RUNS)/eqwarm_nu$(1).h5,$(RUNS)/pack_nu$(1).h5)
+ch6_eq_from  = $(if $(ch6_warm),--frame -1,--temperature 1)
+ch6_gas      = --rate 0 --restitution 1 --friction 0 --dt $(CH6_EQ_DT)
+$(RUNS)/eqwarm_nu%.h5: $(RUNS)/pack_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --temperature 1 $(ch6_gas) --seed $(word 2,$(subst _s, ,$*)) \
+	  --steps $(CH6_EQ_WARMUP_STEPS) --frame-every $(CH6_EQ_WARMUP_STEPS)
+$(RUNS)/eq_nu%.h5: $$(call ch6_eq_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< $(ch6_eq_from) -o $@ $(ch6_gas) --seed $(word 2,$(subst _s, ,$*)) \
+	  --steps $(CH6_EQ_STEPS) --frame-every $(CH6_EQ_FRAME_EVERY) --observe-every $(CH6_EQ_OBSERVE_EVERY)
+
+$(CH6_TABLE): $(CH6_RUNS) $(CH6_EQ_RUNS) $(STAMPS)/gf-kinetic.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ $(foreach r,$(CH6_EQ_RUNS),--equilibrium $(r)) \
+	  --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_KINETIC_ARGS) $(CH6_RUNS)
+
+$(FIGURES)/fig6_%.png: $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 pipelines/plot/ch6_kinetic.py $(CH6_ANALYSIS) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_kinetic.py --restitutions $(CH6_PAIR_$*) $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 $@
+
+# The report's chapter-6 section (it reads ξ/ξ_el from the chapter-5 table, which ch5.mk adds).
+$(FIGURES)/REPORT.md: $(CH6_TABLE) $(CH6_ANALYSIS)
+REPORT_ARGS += --ch6-kinetic $(CH6_TABLE)
