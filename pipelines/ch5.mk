@@ -26,9 +26,6 @@ CH5_CORRELATE_ARGS ?=
 
 # Every run is a row of the table, the reference too (the figures read ξ_el from its row).
 CH5_ROWS           := $(sort $(CH5_SWEEP_RUNS) $(CH5_REFERENCE_RUNS))
-ch5_comma := ,
-ch5_empty :=
-ch5_space := $(ch5_empty) $(ch5_empty)
 
 ch5-files: $(CH5_FIGURES) $(CH5_TABLES)
 
@@ -42,7 +39,7 @@ $(RUNS)/window_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
 $(RUNS)/ch5_correlate.h5: $(CH5_ROWS) $(STAMPS)/gf-correlate.stamp \
                           pipelines/sizes/$(SIZE).mk | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain $(CH5_FROM_STRAIN) --detect-transient \
-	  --reference $(subst $(ch5_space),$(ch5_comma),$(strip $(CH5_REFERENCE_RUNS))) $(CH5_CORRELATE_ARGS) \
+	  --reference $(subst $(space),$(comma),$(strip $(CH5_REFERENCE_RUNS))) $(CH5_CORRELATE_ARGS) \
 	  $(CH5_ROWS)
 $(RUNS)/ch5_clusters.h5: $(CH5_WINDOW_RUNS) $(STAMPS)/gf-correlate.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain 0 --blocks 1 --bootstrap 0 \

@@ -50,7 +50,7 @@ $(RUNS)/eq_nu%.h5: $$(call ch6_eq_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
 	  --steps $(CH6_EQ_STEPS) --frame-every $(CH6_EQ_FRAME_EVERY) --observe-every $(CH6_EQ_OBSERVE_EVERY)
 
 $(CH6_TABLE): $(CH6_RUNS) $(CH6_EQ_RUNS) $(STAMPS)/gf-kinetic.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ $(foreach r,$(CH6_EQ_RUNS),--equilibrium $(r)) \
+	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --equilibrium $(subst $(space),$(comma),$(strip $(CH6_EQ_RUNS))) \
 	  --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_KINETIC_ARGS) $(CH6_RUNS)
 
 $(FIGURES)/fig6_%.png: $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 pipelines/plot/ch6_kinetic.py $(CH6_ANALYSIS) | $(FIGURES)/
