@@ -89,6 +89,7 @@ const std::string kTally = "/shear_tally";
 
 void ShearTally::add(const StepReport& report) {
   collisions += report.collisions;
+  collision_velocity_product += report.collision_velocity_product;
   dissipated_energy += report.dissipated_energy;
   ++steps;
 }
@@ -96,6 +97,7 @@ void ShearTally::add(const StepReport& report) {
 void ShearTally::write(io::TrajectoryWriter& checkpoint) const {
   io::Parameters p;
   p.set("collisions", collisions);
+  p.set("collision_velocity_product", collision_velocity_product);
   p.set("dissipated_energy", dissipated_energy);
   p.set("steps", steps);
   checkpoint.write_attributes(kTally, p);
@@ -103,10 +105,11 @@ void ShearTally::write(io::TrajectoryWriter& checkpoint) const {
 
 void ShearTally::restore(const io::TrajectoryReader& checkpoint) {
   const io::Parameters p = checkpoint.attributes(kTally);
-  if (!p.has("collisions") || !p.has("dissipated_energy") || !p.has("steps"))
+  if (!p.has("collisions") || !p.has("collision_velocity_product") || !p.has("dissipated_energy") || !p.has("steps"))
     throw UsageError("checkpoint '" + checkpoint.path() + "' holds no collision and dissipation tally (" + kTally +
                      "): it was written by an older gf-shear; run without --resume to start over");
   collisions = p.get_int("collisions");
+  collision_velocity_product = p.get_double("collision_velocity_product");
   dissipated_energy = p.get_double("dissipated_energy");
   steps = p.get_int("steps");
 }
@@ -126,6 +129,7 @@ void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer
   writer.append_observable("stress_static", step, time, s.contact);
   writer.append_observable("stress_collisional", step, time, s.collisional);
   writer.append_observable("collisions", step, time, double(tally.collisions));
+  writer.append_observable("collision_velocity_product", step, time, tally.collision_velocity_product);
   writer.append_observable("dissipated_energy", step, time, tally.dissipated_energy);
   tally = {};
 }

@@ -29,13 +29,15 @@ struct ShearStart {
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame, double rate, double temperature,
                        std::uint64_t seed);
 
-// The engine's per-step collision count and dissipated energy (StepReport), accumulated
+// The engine's per-step collision count, collision velocity product and dissipated energy
+// (StepReport), accumulated
 // between observable rows, so that the rows sum to the run's totals whatever
 // --observe-every is. Part of a run's state: a checkpoint holds it, a resume restores it.
 struct ShearTally {
-  std::int64_t collisions = 0;   // contacts born (age 1) since the previous row
-  double dissipated_energy = 0;  // kinetic energy the contact impulses took out since then
-  std::int64_t steps = 0;        // steps since then
+  std::int64_t collisions = 0;            // contacts born (age 1) since the previous row
+  double collision_velocity_product = 0;  // Σ (V_i·n)(V_j·n) over those collisions
+  double dissipated_energy = 0;           // kinetic energy the contact impulses took out since then
+  std::int64_t steps = 0;                 // steps since then
   void add(const StepReport& report);
   void write(io::TrajectoryWriter& checkpoint) const;
   // UsageError naming the file if the checkpoint holds no tally.
@@ -44,7 +46,7 @@ struct ShearTally {
 
 // strain, pressure, shear_stress (−Σ_xy), normal_stress_difference, temperature and
 // the kinetic, static (contact) and collisional stress tensors of the current step;
-// collisions and dissipated_energy from the tally, which is then reset (a row covers the
+// collisions, collision_velocity_product and dissipated_energy from the tally, which is then reset (a row covers the
 // steps after the previous row's, from step 0 for the first).
 void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer, ShearTally& tally);
 

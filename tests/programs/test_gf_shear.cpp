@@ -59,7 +59,7 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
       {"pressure", "shear_stress", "temperature", "solver_iterations", "collisions", "dissipated_energy"});
 }
 
-// The collisions and dissipated energy accumulated since the last observable row are part of
+// The collisions, velocity products and dissipated energy accumulated since the last observable row are part of
 // the checkpoint: with rows 250 steps apart, an interruption almost surely falls between two.
 TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
   ScratchDir dir("shear_resume_tally");
@@ -71,7 +71,8 @@ TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
   ASSERT_EQ(code, 1);
   auto resumed = run_tool("gf-shear", args + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  granflow::test_support::expect_same_run(dir / "ref.h5", dir / "cut.h5", {"collisions", "dissipated_energy"});
+  granflow::test_support::expect_same_run(dir / "ref.h5", dir / "cut.h5",
+                                          {"collisions", "collision_velocity_product", "dissipated_energy"});
 }
 
 // Each row holds what happened since the previous one: the rows sum to the same totals
@@ -95,6 +96,9 @@ TEST(GfShearObservables, TalliesSumToTheSameTotalsWhateverObserveEvery) {
   const double lost = sum(every.observable_scalar("dissipated_energy"));
   EXPECT_GT(lost, 0);
   EXPECT_NEAR(lost, sum(seventh.observable_scalar("dissipated_energy")), 1e-12 * lost);
+  const double product = sum(every.observable_scalar("collision_velocity_product"));
+  EXPECT_NE(product, 0);
+  EXPECT_NEAR(product, sum(seventh.observable_scalar("collision_velocity_product")), 1e-12 * std::fabs(product));
 }
 
 TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
