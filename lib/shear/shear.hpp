@@ -2,6 +2,7 @@
 // Simple shear in a Lees–Edwards cell (thesis §4.2): the start state of a run and the
 // bulk observables recorded at every observed step.
 #include <cstdint>
+#include <string>
 
 #include "dynamics/engine.hpp"
 #include "io/trajectory.hpp"
@@ -49,5 +50,27 @@ struct ShearTally {
 // collisions, collision_velocity_product and dissipated_energy from the tally, which is then reset (a row covers the
 // steps after the previous row's, from step 0 for the first).
 void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer, ShearTally& tally);
+
+// Kinetic energy about the mean flow of simple shear at rate γ̇: Σ ½m|ṽ|² + ½I(ω + γ̇/2)²
+// over the mobile grains, ṽ the fluctuating velocity, −γ̇/2 the spin of the affine flow,
+// I = ½mR² (disks).
+double kinetic_energy_about_mean_flow(const GrainState& state, const Box& box, double rate);
+
+// The kinetic energy change of a run's first step, which must not grow without shear: a
+// start that violates this (a gf-pack packing's network of exactly touching pairs, on which
+// Newton's restitution law applied to simultaneous contacts injects energy) must not pass
+// silently.
+struct FirstStepEnergy {
+  double before = 0;  // kinetic_energy_about_mean_flow at step 0
+  double after = 0;   // and after step 1
+  // As attributes of /run: first_step_kinetic_energy_before, _after and, when before > 0,
+  // _ratio (after/before).
+  void write(io::TrajectoryWriter& writer) const;
+  // The warning line (without the program's name), or "" if none applies. Only at γ̇ = 0,
+  // where no work is done on the grains: the energy grows beyond round-off (relative
+  // 10⁻⁹) for any e, or, at e = 1 without friction, where it must not change, it changes
+  // by more than 1 %. With shear the images' work changes the energy legitimately.
+  std::string warning(double rate, const Material& material) const;
+};
 
 }  // namespace granflow

@@ -215,3 +215,38 @@ TEST(GfShearBadInput, BadFiles) {
     EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << path;
   }
 }
+
+// A gf-pack packing is a network of exactly touching pairs: Newton's restitution law on
+// those simultaneous contacts injects energy in the first step of an "elastic" gas started
+// from it. gf-shear records the kinetic energy before and after that step in /run and
+// warns on stderr, also with --quiet (a warning is not progress).
+TEST(GfShearFirstStep, EnergyInjectedFromAPackingIsReported) {
+  ScratchDir dir("shear_first_step");
+  const std::string dense = packed_once("shear_packing_075", "--grains 200 --packing-fraction 0.75 --seed 5");
+  auto r = run_tool("gf-shear", "-i " + dense + " --rate 0 --temperature 1 --restitution 1 --steps 20 --quiet -o " +
+                                    (dir / "dense.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("gf-shear: warning: the first step"), std::string::npos) << r.err;
+  const io::Parameters run = io::TrajectoryReader(dir / "dense.h5").attributes("/run");
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_before"));
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_after"));
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_ratio"));
+  const double before = run.get_double("first_step_kinetic_energy_before");
+  const double after = run.get_double("first_step_kinetic_energy_after");
+  EXPECT_GT(before, 0);
+  EXPECT_DOUBLE_EQ(run.get_double("first_step_kinetic_energy_ratio"), after / before);
+  EXPECT_GT(after / before, 1.01);
+}
+
+// A dilute start (ν = 0.1, no touching pairs): the first step keeps the energy, no warning.
+TEST(GfShearFirstStep, DiluteStartHasNoWarning) {
+  ScratchDir dir("shear_first_step_dilute");
+  const std::string dilute = packed_once("shear_packing_010", "--grains 200 --packing-fraction 0.1 --seed 5");
+  auto r = run_tool("gf-shear", "-i " + dilute + " --rate 0 --temperature 1 --restitution 1 --steps 20 --quiet -o " +
+                                    (dir / "dilute.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  const io::Parameters run = io::TrajectoryReader(dir / "dilute.h5").attributes("/run");
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_ratio"));
+  EXPECT_NEAR(run.get_double("first_step_kinetic_energy_ratio"), 1, 1e-9);
+}
