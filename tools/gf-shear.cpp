@@ -1,6 +1,7 @@
 // gf-shear: simple shear of rigid disks in a Lees–Edwards cell by Contact Dynamics
 // (thesis §4.1–4.2, App. A), from a packing or a stored frame of a trajectory.
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "core/cli.hpp"
@@ -87,7 +88,18 @@ int main(int argc, char** argv) {
     set_length(plan, steps);
     plan.strain_per_step = rate * dt;
     ShearTally tally;
-    plan.after_step = [&](const Engine& e) { tally.add(e.last_report()); };
+    // The first step's energy change, recorded (and warned of) as soon as it is taken; a
+    // resumed run took it before, unless its checkpoint is at step 0.
+    FirstStepEnergy first_step;
+    io::TrajectoryWriter* output = nullptr;
+    plan.after_step = [&](const Engine& e) {
+      tally.add(e.last_report());
+      if (e.step_count() != 1) return;
+      first_step.after = kinetic_energy_about_mean_flow(e.state(), e.box(), rate);
+      first_step.write(*output);
+      if (const std::string w = first_step.warning(rate, material); !w.empty())
+        std::fprintf(stderr, "gf-shear: warning: %s\n", w.c_str());
+    };
     plan.checkpoint_extra = [&](io::TrajectoryWriter& w) { tally.write(w); };
 
     const RunStart run_start{
@@ -121,6 +133,9 @@ int main(int argc, char** argv) {
     refuse_output_among_inputs(cli.text("output"), {input_path});
     OutputFile out(cli.text("output"), /*resumable=*/true);
     StartedRun run = start_or_resume(cli, plan, out, run_start);
+    output = &run.writer;
+    if (run.engine.step_count() == 0)
+      first_step.before = kinetic_energy_about_mean_flow(run.engine.state(), run.engine.box(), rate);
     const RunStats stats =
         run_resumable(run.engine, run.writer, out, plan, run.stats,
                       [&](const Engine& e, io::TrajectoryWriter& w) { record_shear_observables(e, w, tally); });

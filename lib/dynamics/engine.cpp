@@ -1264,12 +1264,16 @@ void Engine::record_contacts() {
   report_.contacts = int(records_.size());
   // Summed in candidate order: the same number for any thread count.
   int born = 0;
-  double lost = 0;
+  double product = 0, lost = 0;
   for (std::size_t q = 0; q < records_.size(); ++q) {
-    born += records_.age[q] == 1;
+    if (records_.age[q] == 1) {
+      ++born;
+      product += records_.pre_normal_velocity[q][0] * records_.pre_normal_velocity[q][1];
+    }
     lost += dissipated_[q];
   }
   report_.collisions = born;
+  report_.collision_velocity_product = product;
   report_.dissipated_energy = lost;
 }
 

@@ -104,6 +104,10 @@ struct StepReport {
   double max_overlap = 0;            // max(0, −g) over all pairs after the position update
   // Collisions: contacts born in this step (P_n > 0 now, none the step before: age 1).
   int collisions = 0;
+  // Σ over those collisions of (V_i·n)(V_j·n), the product of the two grains' pre-collisional
+  // normal peculiar velocities (their pre_normal_velocity record; the sign of n cancels). The
+  // numerator of the velocity correlation C_v (thesis eq. 6.11).
+  double collision_velocity_product = 0;
   // Kinetic energy (translational plus rotational) the contact impulses removed in this step:
   // −Σ_contacts P·ū, ū the relative contact-point velocity (image shift included) at the mean of
   // each grain's free and post-step velocities. It is exactly the kinetic energy the impulses take

@@ -1,6 +1,7 @@
 #include "shear/shear.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
@@ -89,6 +90,7 @@ const std::string kTally = "/shear_tally";
 
 void ShearTally::add(const StepReport& report) {
   collisions += report.collisions;
+  collision_velocity_product += report.collision_velocity_product;
   dissipated_energy += report.dissipated_energy;
   ++steps;
 }
@@ -96,6 +98,7 @@ void ShearTally::add(const StepReport& report) {
 void ShearTally::write(io::TrajectoryWriter& checkpoint) const {
   io::Parameters p;
   p.set("collisions", collisions);
+  p.set("collision_velocity_product", collision_velocity_product);
   p.set("dissipated_energy", dissipated_energy);
   p.set("steps", steps);
   checkpoint.write_attributes(kTally, p);
@@ -103,10 +106,11 @@ void ShearTally::write(io::TrajectoryWriter& checkpoint) const {
 
 void ShearTally::restore(const io::TrajectoryReader& checkpoint) {
   const io::Parameters p = checkpoint.attributes(kTally);
-  if (!p.has("collisions") || !p.has("dissipated_energy") || !p.has("steps"))
+  if (!p.has("collisions") || !p.has("collision_velocity_product") || !p.has("dissipated_energy") || !p.has("steps"))
     throw UsageError("checkpoint '" + checkpoint.path() + "' holds no collision and dissipation tally (" + kTally +
                      "): it was written by an older gf-shear; run without --resume to start over");
   collisions = p.get_int("collisions");
+  collision_velocity_product = p.get_double("collision_velocity_product");
   dissipated_energy = p.get_double("dissipated_energy");
   steps = p.get_int("steps");
 }
@@ -126,8 +130,42 @@ void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer
   writer.append_observable("stress_static", step, time, s.contact);
   writer.append_observable("stress_collisional", step, time, s.collisional);
   writer.append_observable("collisions", step, time, double(tally.collisions));
+  writer.append_observable("collision_velocity_product", step, time, tally.collision_velocity_product);
   writer.append_observable("dissipated_energy", step, time, tally.dissipated_energy);
   tally = {};
+}
+
+double kinetic_energy_about_mean_flow(const GrainState& state, const Box& box, double rate) {
+  double energy = 0;
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    if (state.fixed[i]) continue;
+    const double spin = state.radius[i] * (state.angular_velocity[i] + 0.5 * rate);
+    energy += 0.5 * state.mass[i] * (fluctuating_velocity(state, box, rate, i).squaredNorm() + 0.5 * spin * spin);
+  }
+  return energy;
+}
+
+void FirstStepEnergy::write(io::TrajectoryWriter& writer) const {
+  io::Parameters p;
+  p.set("first_step_kinetic_energy_before", before);
+  p.set("first_step_kinetic_energy_after", after);
+  if (before > 0) p.set("first_step_kinetic_energy_ratio", after / before);
+  writer.write_attributes("/run", p);
+}
+
+std::string FirstStepEnergy::warning(double rate, const Material& material) const {
+  if (rate != 0 || !(before > 0)) return "";
+  const double ratio = after / before;
+  const bool elastic = material.restitution == 1 && material.friction == 0;
+  if (!(ratio - 1 > 1e-9) && !(elastic && std::fabs(ratio - 1) > 0.01)) return "";
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "the first step %s the kinetic energy by a factor %.4g (%.4g -> %.4g) at rate 0%s: the start is "
+                "not an equilibrium state (a packing's touching pairs, which Newton's restitution law on "
+                "simultaneous contacts does not treat energy-consistently); discard a warm-up run "
+                "(docs/method/kinetic.md)",
+                ratio > 1 ? "multiplied" : "changed", ratio, before, after, elastic ? ", e = 1, no friction" : "");
+  return line;
 }
 
 }  // namespace granflow

@@ -2,6 +2,7 @@
 // Simple shear in a Lees–Edwards cell (thesis §4.2): the start state of a run and the
 // bulk observables recorded at every observed step.
 #include <cstdint>
+#include <string>
 
 #include "dynamics/engine.hpp"
 #include "io/trajectory.hpp"
@@ -29,13 +30,15 @@ struct ShearStart {
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame, double rate, double temperature,
                        std::uint64_t seed);
 
-// The engine's per-step collision count and dissipated energy (StepReport), accumulated
+// The engine's per-step collision count, collision velocity product and dissipated energy
+// (StepReport), accumulated
 // between observable rows, so that the rows sum to the run's totals whatever
 // --observe-every is. Part of a run's state: a checkpoint holds it, a resume restores it.
 struct ShearTally {
-  std::int64_t collisions = 0;   // contacts born (age 1) since the previous row
-  double dissipated_energy = 0;  // kinetic energy the contact impulses took out since then
-  std::int64_t steps = 0;        // steps since then
+  std::int64_t collisions = 0;            // contacts born (age 1) since the previous row
+  double collision_velocity_product = 0;  // Σ (V_i·n)(V_j·n) over those collisions
+  double dissipated_energy = 0;           // kinetic energy the contact impulses took out since then
+  std::int64_t steps = 0;                 // steps since then
   void add(const StepReport& report);
   void write(io::TrajectoryWriter& checkpoint) const;
   // UsageError naming the file if the checkpoint holds no tally.
@@ -44,8 +47,30 @@ struct ShearTally {
 
 // strain, pressure, shear_stress (−Σ_xy), normal_stress_difference, temperature and
 // the kinetic, static (contact) and collisional stress tensors of the current step;
-// collisions and dissipated_energy from the tally, which is then reset (a row covers the
+// collisions, collision_velocity_product and dissipated_energy from the tally, which is then reset (a row covers the
 // steps after the previous row's, from step 0 for the first).
 void record_shear_observables(const Engine& engine, io::TrajectoryWriter& writer, ShearTally& tally);
+
+// Kinetic energy about the mean flow of simple shear at rate γ̇: Σ ½m|ṽ|² + ½I(ω + γ̇/2)²
+// over the mobile grains, ṽ the fluctuating velocity, −γ̇/2 the spin of the affine flow,
+// I = ½mR² (disks).
+double kinetic_energy_about_mean_flow(const GrainState& state, const Box& box, double rate);
+
+// The kinetic energy change of a run's first step, which must not grow without shear: a
+// start that violates this (a gf-pack packing's network of exactly touching pairs, on which
+// Newton's restitution law applied to simultaneous contacts injects energy) must not pass
+// silently.
+struct FirstStepEnergy {
+  double before = 0;  // kinetic_energy_about_mean_flow at step 0
+  double after = 0;   // and after step 1
+  // As attributes of /run: first_step_kinetic_energy_before, _after and, when before > 0,
+  // _ratio (after/before).
+  void write(io::TrajectoryWriter& writer) const;
+  // The warning line (without the program's name), or "" if none applies. Only at γ̇ = 0,
+  // where no work is done on the grains: the energy grows beyond round-off (relative
+  // 10⁻⁹) for any e, or, at e = 1 without friction, where it must not change, it changes
+  // by more than 1 %. With shear the images' work changes the energy legitimately.
+  std::string warning(double rate, const Material& material) const;
+};
 
 }  // namespace granflow

@@ -19,7 +19,8 @@ namespace {
 // Two equal disks (R = 0.5) on one line in a periodic box of side L, moving towards each
 // other at ±v. Elastic and frictionless, they exchange velocities at each collision, so the
 // pair's gaps (one on each side, summing to L − 4R) close at 2v in turn: collisions at
-// t_k = g₀/(2v) + k·(L − 4R)/(2v). The run ends half a period after the 7th.
+// t_k = g₀/(2v) + k·(L − 4R)/(2v). The run ends half a period after the 7th. Each collision
+// meets the two disks at ±v along n: its velocity product (V_i·n)(V_j·n) is −v².
 TEST(Collisions, TwoDisksInAPeriodicBoxCountedInClosedForm) {
   const double l = 10, r = 0.5, v = 0.5, g0 = 2;
   GrainState s = make_grains({Vec2(2, 5), Vec2(2 + 2 * r + g0, 5)}, {r, r});
@@ -35,21 +36,31 @@ TEST(Collisions, TwoDisksInAPeriodicBoxCountedInClosedForm) {
   Engine engine(s, test::periodic_square(l), 0.0, {1.0, 0.0, 0.0}, {}, dt);
   const long steps = std::lround(end / dt);
   long counted = 0, births = 0;
+  double product = 0;
   for (long k = 0; k < steps; ++k) {
     const StepReport& rep = engine.step();
     ASSERT_LE(rep.collisions, 1) << "step " << k;
     counted += rep.collisions;
+    if (rep.collisions == 1) {
+      EXPECT_NEAR(rep.collision_velocity_product, -v * v, 1e-12) << "step " << k;
+    } else {
+      EXPECT_EQ(rep.collision_velocity_product, 0) << "step " << k;
+    }
+    product += rep.collision_velocity_product;
     for (std::size_t c = 0; c < engine.contacts().size(); ++c) births += engine.contacts().age[c] == 1;
   }
   EXPECT_EQ(counted, expected);
   EXPECT_EQ(births, expected);
+  EXPECT_NEAR(product, -expected * v * v, 1e-12);
 }
 
 // Kinetic energy, translational and rotational, independently of the engine.
 double energy(const GrainState& s) { return test::kinetic_energy(s); }
 
 // One head-on collision of unequal disks: the step's dissipated energy is
-// (1 − e²)·m_red·u_n²/2, and the run's total equals the kinetic energy lost.
+// (1 − e²)·m_red·u_n²/2, and the run's total equals the kinetic energy lost. The velocity
+// product of the collision is that of the incoming velocities along the line of centres,
+// 0.8·(−0.5), whatever e.
 TEST(Dissipation, HeadOnCollisionMatchesClosedForm) {
   for (double e : {0.0, 0.5, 0.9}) {
     GrainState s = make_grains({Vec2(6, 12), Vec2(9, 12)}, {0.7, 0.45});
@@ -68,6 +79,7 @@ TEST(Dissipation, HeadOnCollisionMatchesClosedForm) {
       collisions += rep.collisions;
       if (rep.collisions == 1) {
         EXPECT_NEAR(rep.dissipated_energy, expected, 1e-12 * expected) << "e = " << e;
+        EXPECT_NEAR(rep.collision_velocity_product, 0.8 * -0.5, 1e-12) << "e = " << e;
       }
     }
     EXPECT_EQ(collisions, 1) << "e = " << e;

@@ -59,7 +59,7 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
       {"pressure", "shear_stress", "temperature", "solver_iterations", "collisions", "dissipated_energy"});
 }
 
-// The collisions and dissipated energy accumulated since the last observable row are part of
+// The collisions, velocity products and dissipated energy accumulated since the last observable row are part of
 // the checkpoint: with rows 250 steps apart, an interruption almost surely falls between two.
 TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
   ScratchDir dir("shear_resume_tally");
@@ -71,7 +71,8 @@ TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
   ASSERT_EQ(code, 1);
   auto resumed = run_tool("gf-shear", args + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  granflow::test_support::expect_same_run(dir / "ref.h5", dir / "cut.h5", {"collisions", "dissipated_energy"});
+  granflow::test_support::expect_same_run(dir / "ref.h5", dir / "cut.h5",
+                                          {"collisions", "collision_velocity_product", "dissipated_energy"});
 }
 
 // Each row holds what happened since the previous one: the rows sum to the same totals
@@ -95,6 +96,9 @@ TEST(GfShearObservables, TalliesSumToTheSameTotalsWhateverObserveEvery) {
   const double lost = sum(every.observable_scalar("dissipated_energy"));
   EXPECT_GT(lost, 0);
   EXPECT_NEAR(lost, sum(seventh.observable_scalar("dissipated_energy")), 1e-12 * lost);
+  const double product = sum(every.observable_scalar("collision_velocity_product"));
+  EXPECT_NE(product, 0);
+  EXPECT_NEAR(product, sum(seventh.observable_scalar("collision_velocity_product")), 1e-12 * std::fabs(product));
 }
 
 TEST(GfShearResume, ResumeWithOtherOptionsIsRefused) {
@@ -210,4 +214,39 @@ TEST(GfShearBadInput, BadFiles) {
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
     EXPECT_EQ(out_dir.entries(), 0) << "output left behind for " << path;
   }
+}
+
+// A gf-pack packing is a network of exactly touching pairs: Newton's restitution law on
+// those simultaneous contacts injects energy in the first step of an "elastic" gas started
+// from it. gf-shear records the kinetic energy before and after that step in /run and
+// warns on stderr, also with --quiet (a warning is not progress).
+TEST(GfShearFirstStep, EnergyInjectedFromAPackingIsReported) {
+  ScratchDir dir("shear_first_step");
+  const std::string dense = packed_once("shear_packing_075", "--grains 200 --packing-fraction 0.75 --seed 5");
+  auto r = run_tool("gf-shear", "-i " + dense + " --rate 0 --temperature 1 --restitution 1 --steps 20 --quiet -o " +
+                                    (dir / "dense.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("gf-shear: warning: the first step"), std::string::npos) << r.err;
+  const io::Parameters run = io::TrajectoryReader(dir / "dense.h5").attributes("/run");
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_before"));
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_after"));
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_ratio"));
+  const double before = run.get_double("first_step_kinetic_energy_before");
+  const double after = run.get_double("first_step_kinetic_energy_after");
+  EXPECT_GT(before, 0);
+  EXPECT_DOUBLE_EQ(run.get_double("first_step_kinetic_energy_ratio"), after / before);
+  EXPECT_GT(after / before, 1.01);
+}
+
+// A dilute start (ν = 0.1, no touching pairs): the first step keeps the energy, no warning.
+TEST(GfShearFirstStep, DiluteStartHasNoWarning) {
+  ScratchDir dir("shear_first_step_dilute");
+  const std::string dilute = packed_once("shear_packing_010", "--grains 200 --packing-fraction 0.1 --seed 5");
+  auto r = run_tool("gf-shear", "-i " + dilute + " --rate 0 --temperature 1 --restitution 1 --steps 20 --quiet -o " +
+                                    (dir / "dilute.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  const io::Parameters run = io::TrajectoryReader(dir / "dilute.h5").attributes("/run");
+  ASSERT_TRUE(run.has("first_step_kinetic_energy_ratio"));
+  EXPECT_NEAR(run.get_double("first_step_kinetic_energy_ratio"), 1, 1e-9);
 }
