@@ -2,10 +2,8 @@
 #
 # Equilibrium runs (χ, the pair correlation at contact, from the collision frequency):
 # $(RUNS)/eq_nu<ν>_s<seed>.h5 for every ν of CH6_EQ_NU (a ν of PACK_NU: made from the packing
-# of that ν), gf-shear --rate 0 --temperature 1 --restitution 1 at the step CH6_EQ_DT for
-# CH6_EQ_STEPS steps. With CH6_EQ_WARMUP_STEPS > 0 a warm-up run $(RUNS)/eqwarm_nu<ν>_s<seed>.h5
-# of that many steps goes first, from the packing, and is discarded: the production run starts
-# from its last frame (the packing's exactly touching pairs make the first steps inject energy).
+# of that ν), gf-shear --rate 0 --restitution 1 after two discarded warm-ups (below: the
+# packing's exactly touching pairs make the first step inject energy).
 # Like the shear run lengths, these settings are not in the names: after changing them, remove
 # the runs (clean-runs).
 # Table: $(RUNS)/ch6_kinetic.h5, gf-kinetic over the μ = 0 runs of the chapter-4 sweep at
@@ -35,19 +33,34 @@ CH6_KINETIC_ARGS   ?=
 
 ch6-files: $(CH6_FIGURES) $(CH6_TABLE)
 
-# Stem "<ν>_s<seed>", as for the packings. The production run starts from the warm-up's last
-# frame (its velocities kept: --temperature only thermalises a packing at rest), or from the
-# packing at --temperature 1 when CH6_EQ_WARMUP_STEPS is 0.
-ch6_warm     = $(filter-out 0,$(CH6_EQ_WARMUP_STEPS))
-ch6_eq_start = $(if $(ch6_warm),$(RUNS)/eqwarm_nu$(1).h5,$(RUNS)/pack_nu$(1).h5)
-ch6_eq_from  = $(if $(ch6_warm),--frame -1,--temperature 1)
-ch6_gas      = --rate 0 --restitution 1 --friction 0 --dt $(CH6_EQ_DT)
+# Stem "<ν>_s<seed>", as for the packings. Up to three runs per ν (docs/method/kinetic.md,
+# "The recipe"): a warm-up from the packing at --temperature 1 with the coarse step
+# CH6_EQ_WARMUP_DT_<ν> (eqwarm_*: it takes the first step's energy injection, relaxes the
+# packing's structure and equipartitions), a settling run at the production step
+# CH6_EQ_DT_<ν> (eqsettle_*), both discarded, then the measured run (eq_*) at that step; each
+# starts from the last frame of the one before (--rate 0 keeps a moving frame's velocities).
+# CH6_EQ_WARMUP_STEPS or CH6_EQ_SETTLE_STEPS = 0 leaves that stage out; a ν without its own
+# step uses CH6_EQ_WARMUP_DT / CH6_EQ_DT.
+ch6_nu        = $(word 1,$(subst _s, ,$(1)))
+ch6_seed      = $(word 2,$(subst _s, ,$(1)))
+ch6_dt_warm   = $(or $(CH6_EQ_WARMUP_DT_$(call ch6_nu,$(1))),$(CH6_EQ_WARMUP_DT))
+ch6_dt        = $(or $(CH6_EQ_DT_$(call ch6_nu,$(1))),$(CH6_EQ_DT))
+ch6_warm      = $(filter-out 0,$(CH6_EQ_WARMUP_STEPS))
+ch6_settle    = $(filter-out 0,$(CH6_EQ_SETTLE_STEPS))
+ch6_settle_start = $(if $(ch6_warm),$(RUNS)/eqwarm_nu$(1).h5,$(RUNS)/pack_nu$(1).h5)
+ch6_eq_start  = $(if $(ch6_settle),$(RUNS)/eqsettle_nu$(1).h5,$(call ch6_settle_start,$(1)))
+# Options of a stage starting from $(2): a packing is thermalised, a run's last frame continued.
+ch6_from      = $(if $(filter $(RUNS)/pack_nu%,$(2)),--temperature 1,--frame -1) --seed $(call ch6_seed,$(1))
+ch6_gas       = --quiet --rate 0 --restitution 1 --friction 0
 $(RUNS)/eqwarm_nu%.h5: $(RUNS)/pack_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --temperature 1 $(ch6_gas) --seed $(word 2,$(subst _s, ,$*)) \
-	  --steps $(CH6_EQ_WARMUP_STEPS) --frame-every $(CH6_EQ_WARMUP_STEPS)
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt_warm,$*) \
+	  --steps $(CH6_EQ_WARMUP_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_WARMUP_STEPS)
+$(RUNS)/eqsettle_nu%.h5: $$(call ch6_settle_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
+	  --steps $(CH6_EQ_SETTLE_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_SETTLE_STEPS)
 $(RUNS)/eq_nu%.h5: $$(call ch6_eq_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< $(ch6_eq_from) -o $@ $(ch6_gas) --seed $(word 2,$(subst _s, ,$*)) \
-	  --steps $(CH6_EQ_STEPS) --frame-every $(CH6_EQ_FRAME_EVERY) --observe-every $(CH6_EQ_OBSERVE_EVERY)
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
+	  --steps $(CH6_EQ_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_FRAME_EVERY)
 
 $(CH6_TABLE): $(CH6_RUNS) $(CH6_EQ_RUNS) $(STAMPS)/gf-kinetic.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
 	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --equilibrium $(subst $(space),$(comma),$(strip $(CH6_EQ_RUNS))) \

@@ -36,11 +36,13 @@ CH4_FRICTION_NU   := 0.700
 CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
 # Chapter 6: the μ = 0 runs of the chapter-4 grid (2 ν, 2 e) and a very short elastic run at
-# each ν (a 20-step warm-up, 100 steps), only to exercise the rules.
+# each ν (a 20-step warm-up, 20 settling steps, 100 measured steps), only to exercise the rules.
 CH6_EQ_NU            := $(CH4_NU)
 CH6_EQ_SEED          := $(CH4_SEED)
+CH6_EQ_WARMUP_DT     := 1e-3
 CH6_EQ_DT            := 1e-3
 CH6_EQ_WARMUP_STEPS  := 20
+CH6_EQ_SETTLE_STEPS  := 20
 CH6_EQ_STEPS         := 100
 CH6_EQ_FRAME_EVERY   := 20
 CH6_EQ_OBSERVE_EVERY := 1

@@ -32,10 +32,10 @@ done
 [ ! -e figures/fig6_2.png ] || fail "figures/fig6_2.png made without a run at e = 0.5 or 0.25"
 grep -q '^## Chapter 6' figures/REPORT.md || fail "REPORT.md has no chapter-6 section"
 for nu in 0.500 0.700; do
-  for f in runs/test/eqwarm_nu${nu}_s1.h5 runs/test/eq_nu${nu}_s1.h5; do [ -s "$f" ] || fail "$f was not made"; done
+  for f in runs/test/eq{warm,settle,}_nu${nu}_s1.h5; do [ -s "$f" ] || fail "$f was not made"; done
 done
-# The equilibrium runs are elastic and unsheared, the production run starts from the warm-up's
-# last frame and lasts CH6_EQ_STEPS; the table has one row per μ = 0 run of the ch4 grid and one
+# The equilibrium runs are elastic and unsheared, the measured run starts from the settling
+# run's last frame, which starts from the warm-up's, and lasts CH6_EQ_STEPS; the table has one row per μ = 0 run of the ch4 grid and one
 # equilibrium row per ν.
 PYTHONPATH=pipelines /usr/bin/python3 - <<'PY' || fail "equilibrium runs or table not as test.mk asks"
 import h5py
@@ -45,6 +45,10 @@ for nu in ("0.500", "0.700"):
         assert float(p["rate"]) == 0 and float(p["restitution"]) == 1, dict(p)
         assert int(p["steps"]) == 100 and int(p["frame"]) == -1, dict(p)
         source = p["input"].decode() if isinstance(p["input"], bytes) else p["input"]
+        assert source.endswith(f"eqsettle_nu{nu}_s1.h5"), source
+    with h5py.File(f"runs/test/eqsettle_nu{nu}_s1.h5", "r") as f:
+        source = f["/parameters"].attrs["input"]
+        source = source.decode() if isinstance(source, bytes) else source
         assert source.endswith(f"eqwarm_nu{nu}_s1.h5"), source
 with h5py.File("runs/test/ch6_kinetic.h5", "r") as f:
     inputs = sorted(v.decode() if isinstance(v, bytes) else v for v in f["/runs/input"][...])
