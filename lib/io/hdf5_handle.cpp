@@ -66,7 +66,8 @@ hid_t check_path(hid_t status, const std::string& path, std::string_view action)
 PropList file_access_plist() {
   silence_hdf5_errors();
   PropList fapl(check_path(H5Pcreate(H5P_FILE_ACCESS), "", "create file access list"));
-  check_path(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), "", "set HDF5 format version");
+  // Objects in the 1.8 format; the file-space strategy below needs the 1.10 superblock.
+  check_path(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V110), "", "set HDF5 format version");
 #if H5_VERSION_GE(1, 10, 7)
   check_path(H5Pset_file_locking(fapl.get(), true, true), "", "set file locking");
 #endif
@@ -80,15 +81,49 @@ PropList creation_plist(hid_t plist_class) {
   return plist;
 }
 
+namespace {
+
+// For files being written: HDF5 writes metadata (object headers, chunk indexes, the
+// superblock) only when flushed or closed, never in between on its own to make room in
+// its cache, so a process killed (kill -9) between two flushes leaves the metadata of
+// the last flush, consistent with itself, and (see create_file) the data it indexes.
+// The cache holds the metadata touched since the file was opened: small against the
+// data (one chunk index entry per 64 KiB chunk).
+PropList writer_access_plist(const std::string& path) {
+  PropList fapl = file_access_plist();
+  H5AC_cache_config_t config;
+  config.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  check_path(H5Pget_mdc_config(fapl.get(), &config), path, "get metadata cache configuration");
+  config.evictions_enabled = false;
+  config.incr_mode = H5C_incr__off;
+  config.flash_incr_mode = H5C_flash_incr__off;
+  config.decr_mode = H5C_decr__off;
+  check_path(H5Pset_mdc_config(fapl.get(), &config), path, "set metadata cache configuration");
+  return fapl;
+}
+
+}  // namespace
+
 File create_file(const std::string& path) {
   PropList fcpl = creation_plist(H5P_FILE_CREATE);
-  PropList fapl = file_access_plist();
+  // File space is only ever taken at the end of the file, never reused: a chunk that
+  // grows is written elsewhere and its old copy stays intact, so the chunk index a
+  // checkpoint flushed keeps pointing at valid data until the next flush, whenever a
+  // process is killed (kill -9) in between.
+  check_path(H5Pset_file_space_strategy(fcpl.get(), H5F_FSPACE_STRATEGY_NONE, false, 1), path,
+             "set file space strategy");
+  // That strategy is stored in a superblock extension, an object header HDF5 creates with
+  // its default group creation list, timestamps included: without them, identical inputs
+  // still give byte-identical files. (granflow creates every object of its own with
+  // creation_plist, so changing that process-wide default affects nothing else.)
+  check_path(H5Pset_obj_track_times(H5P_GROUP_CREATE_DEFAULT, false), path, "disable object timestamps");
+  PropList fapl = writer_access_plist(path);
   return File(
       check_path(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), path, "cannot create HDF5 file"));
 }
 
 File open_file(const std::string& path, bool writable) {
-  PropList fapl = file_access_plist();
+  PropList fapl = writable ? writer_access_plist(path) : file_access_plist();
   return File(check_path(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()), path,
                          "cannot open as HDF5 (truncated or corrupt?)"));
 }

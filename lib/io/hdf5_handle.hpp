@@ -115,14 +115,17 @@ inline hid_t file_type<std::uint8_t>() {
 }
 
 // File access: HDF5 1.8 object format (dense attribute storage, so a long command line
-// fits in an attribute; still readable by every HDF5 ≥ 1.8), and file locking that
-// degrades gracefully on cluster file systems without it.
+// fits in an attribute), a 1.10 superblock where create_file needs it, and file locking
+// that degrades gracefully on cluster file systems without it.
 PropList file_access_plist();
 // File, group and dataset creation without object timestamps: identical inputs give
 // byte-identical files.
 PropList creation_plist(hid_t plist_class);
 
-File create_file(const std::string& path);  // truncates
+// Truncates. File space is never reused and, for files opened writable, metadata reaches
+// the disk only when flushed or closed: a process killed between two flushes leaves the
+// file as of the last flush, plus data nothing indexes yet.
+File create_file(const std::string& path);
 // Opens an existing file; the caller has checked that it exists and is HDF5.
 File open_file(const std::string& path, bool writable);
 
@@ -150,7 +153,7 @@ template <class T>
 std::vector<T> read_all(hid_t dataset);
 // Reads every row of every fixed-size dataset in the file, in blocks, and throws Hdf5Error
 // naming the first one that cannot be read (a chunk overwritten or cut short). A file that
-// opens can still hold such a chunk: a process killed between two flushes leaves one.
+// opens can still hold such a chunk: a power loss or a disk error can leave one.
 void read_every_dataset(hid_t file);
 
 // Attributes. Strings are stored as fixed-length UTF-8 (H5MD 1.1); reading also accepts

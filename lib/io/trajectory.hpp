@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -168,6 +169,12 @@ class TrajectoryReader {
   // A file marked unfinished (TrajectoryWriter::mark_unfinished) is refused too, unless
   // accept_unfinished (resume only).
   explicit TrajectoryReader(const std::string& path, bool accept_unfinished = false);
+  // A resumable run's partial output as of a checkpoint that counted `frames` frames
+  // (resume only): unfinished, and its datasets may hold more rows than that, written
+  // after the checkpoint by a process killed before the next one (HDF5 flushes the
+  // extent of some datasets and not of others in between). Sees only those frames and
+  // their contacts; UsageError naming the path if a dataset holds fewer.
+  static TrajectoryReader partial_output(const std::string& path, std::size_t frames);
   TrajectoryReader(TrajectoryReader&&) noexcept;
   TrajectoryReader& operator=(TrajectoryReader&&) noexcept;
   ~TrajectoryReader();
@@ -204,6 +211,7 @@ class TrajectoryReader {
   const std::string& path() const;
 
  private:
+  TrajectoryReader(const std::string& path, bool accept_unfinished, std::optional<std::size_t> as_of_frames);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

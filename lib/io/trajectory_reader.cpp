@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "core/error.hpp"
 #include "io/frame_check.hpp"
@@ -28,6 +30,9 @@ struct TrajectoryReader::Impl {
   std::size_t frames = 0, grains = 0;
   bool periodic_y = true;
   bool contacts = false;
+  // Set for a partial output read as of a checkpoint: its frame count, and datasets
+  // may be longer than the rows it needs.
+  std::optional<std::size_t> as_of_frames;
 
   [[noreturn]] void bad(const std::string& what) const { throw UsageError("'" + path + "': " + what); }
 
@@ -42,7 +47,9 @@ struct TrajectoryReader::Impl {
     Dataset dataset = open_dataset(file.get(), name);
     std::vector<hsize_t> dims = shape(dataset.get()), want{rows};
     want.insert(want.end(), inner.begin(), inner.end());
-    if (dims != want)
+    const bool longer_is_fine = as_of_frames && dims.size() == want.size() && dims[0] >= want[0] &&
+                                std::equal(dims.begin() + 1, dims.end(), want.begin() + 1);
+    if (dims != want && !longer_is_fine)
       bad(name + " has shape " + shape_text(dims) + " but must be " + expected + " = " + shape_text(want));
     return dataset;
   }
@@ -58,6 +65,12 @@ struct TrajectoryReader::Impl {
       bad(position + " has shape " + shape_text(dims) + " but must be [frames][grains][2]");
     frames = dims[0];
     grains = dims[1];
+    if (as_of_frames) {
+      if (frames < *as_of_frames)
+        bad("has " + std::to_string(frames) + " frame(s), fewer than the " + std::to_string(*as_of_frames) +
+            " its checkpoint counts");
+      frames = *as_of_frames;
+    }
 
     for (const char* name : {"radius", "mass", "fixed"}) checked(schema::kGrains + "/" + name, grains, {}, "[grains]");
     require_group(schema::kBox, "not a granflow trajectory");
@@ -71,7 +84,7 @@ struct TrajectoryReader::Impl {
     contacts = exists(file.get(), schema::kContacts);
     if (contacts) {
       Dataset offsets = checked(schema::kFrameOffset, frames + 1, {}, "[frames+1]");
-      std::vector<std::int64_t> offset = read_all<std::int64_t>(offsets.get());
+      std::vector<std::int64_t> offset = read_rows<std::int64_t>(offsets.get(), 0, frames + 1);
       for (std::size_t k = 0; k < frames; ++k)
         if (offset[k + 1] < offset[k]) bad(schema::kFrameOffset + " decreases at frame " + std::to_string(k));
       if (offset[0] != 0) bad(schema::kFrameOffset + " must start at 0");
@@ -110,6 +123,13 @@ struct TrajectoryReader::Impl {
     return read_all<T>(dataset.get());
   }
 
+  // The first `frames` rows of a per-frame dataset.
+  template <class T>
+  std::vector<T> read_frames(const std::string& name) const {
+    Dataset dataset = open_dataset(file.get(), name);
+    return read_rows<T>(dataset.get(), 0, frames);
+  }
+
   // The observable's value dataset, checked to hold rows of the given shape.
   Dataset observable_value(const std::string& name, const std::vector<hsize_t>& inner) const {
     if (!has_observable(name)) bad("no observable '" + name + "'");
@@ -131,8 +151,18 @@ TrajectoryReader::TrajectoryReader(TrajectoryReader&&) noexcept = default;
 TrajectoryReader& TrajectoryReader::operator=(TrajectoryReader&&) noexcept = default;
 TrajectoryReader::~TrajectoryReader() = default;
 
-TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinished) : impl_(std::make_unique<Impl>()) {
+TrajectoryReader TrajectoryReader::partial_output(const std::string& path, std::size_t frames) {
+  return TrajectoryReader(path, true, frames);
+}
+
+TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinished)
+    : TrajectoryReader(path, accept_unfinished, std::nullopt) {}
+
+TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinished,
+                                   std::optional<std::size_t> as_of_frames)
+    : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
+  impl_->as_of_frames = as_of_frames;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) impl_->bad("no such file");
   if (std::filesystem::is_directory(path, ec)) impl_->bad("is a directory, not a trajectory file");
@@ -215,11 +245,11 @@ Frame TrajectoryReader::frame(std::size_t k) const {
 }
 
 std::vector<std::int64_t> TrajectoryReader::frame_steps() const {
-  return as_usage_error([&] { return impl_->read<std::int64_t>(schema::kPosition + "/step"); });
+  return as_usage_error([&] { return impl_->read_frames<std::int64_t>(schema::kPosition + "/step"); });
 }
 
 std::vector<double> TrajectoryReader::frame_times() const {
-  return as_usage_error([&] { return impl_->read<double>(schema::kPosition + "/time"); });
+  return as_usage_error([&] { return impl_->read_frames<double>(schema::kPosition + "/time"); });
 }
 
 std::size_t TrajectoryReader::frame_index(long long k) const {

@@ -368,12 +368,9 @@ const std::string& TrajectoryWriter::path() const { return impl_->path; }
 
 TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path, std::size_t keep_frames,
                                                      std::int64_t keep_observables_through_step) {
-  {
-    TrajectoryReader reader(path, /*accept_unfinished=*/true);  // the same checks and messages as any input
-    if (keep_frames > reader.frame_count())
-      throw UsageError("'" + path + "': cannot keep " + std::to_string(keep_frames) + " frames, the file has " +
-                       std::to_string(reader.frame_count()));
-  }
+  // The same checks and messages as any input; datasets may be longer than keep_frames
+  // frames (rows written after the checkpoint by a killed process), never shorter.
+  TrajectoryReader::partial_output(path, keep_frames);
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   try {
@@ -413,10 +410,18 @@ TrajectoryWriter TrajectoryWriter::reopen_for_append(const std::string& path, st
           throw UsageError("'" + path + "': observable '" + name + "' has rows of shape " + shape_text(inner) +
                            ", expected scalars or [2][2]");
         o.width = inner.empty() ? 1 : 4;
+        // Rows through the checkpoint's step; after them, rows written since or, past
+        // the data that reached the file, fill values (step 0, not increasing).
         std::vector<std::int64_t> steps = read_all<std::int64_t>(o.element.step.id());
-        auto kept = std::upper_bound(steps.begin(), steps.end(), keep_observables_through_step);
-        o.element.resize(hsize_t(kept - steps.begin()));
-        if (kept != steps.begin()) o.last_step = *(kept - 1);
+        std::size_t kept = 0;
+        while (kept < steps.size() && steps[kept] <= keep_observables_through_step &&
+               (kept == 0 || steps[kept] > steps[kept - 1]))
+          ++kept;
+        if (kept > o.element.time.rows() || kept > o.element.value.rows())
+          throw UsageError("'" + path + "': observable '" + name + "' has fewer time or value rows than the " +
+                           std::to_string(kept) + " steps it keeps");
+        o.element.resize(hsize_t(kept));
+        if (kept > 0) o.last_step = steps[kept - 1];
         c.observables.emplace(name, std::move(o));
       }
     }

@@ -149,13 +149,19 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
     throw UsageError("checkpoint '" + plan.checkpoint_path + "': its partial output" +
                      (checkpoint.partial.empty() ? std::string() : " '" + checkpoint.partial + "'") +
                      " is missing; run without --resume to start over");
-  const io::TrajectoryReader partial(checkpoint.partial_path, /*accept_unfinished=*/true);
-  if (partial.frame_count() < std::size_t(checkpoint.stats.frames_written))
-    throw UsageError("'" + checkpoint.partial_path + "' has " + std::to_string(partial.frame_count()) +
-                     " frame(s) but its checkpoint '" + plan.checkpoint_path + "' counts " +
-                     std::to_string(checkpoint.stats.frames_written) + "; run without --resume to start over");
-  // A process killed between two flushes (kill -9, power loss) can leave a chunk of the
-  // partial output overwritten; continuing would write a final file that cannot be read.
+  // Its datasets may be longer than at the checkpoint (a process killed after it), never shorter.
+  const io::TrajectoryReader partial = [&] {
+    try {
+      return io::TrajectoryReader::partial_output(checkpoint.partial_path,
+                                                  std::size_t(checkpoint.stats.frames_written));
+    } catch (const UsageError& e) {
+      throw UsageError(std::string(e.what()) + "; run without --resume to start over");
+    }
+  }();
+  // Files are written without reuse of file space (io::create_file), so a kill -9 leaves
+  // the data the last flush indexed intact; a partial output damaged all the same (power
+  // loss, a disk error, a copy cut short) is refused rather than continued into a final
+  // file that cannot be read.
   try {
     io::read_every_dataset(io::open_file(checkpoint.partial_path, /*writable=*/false).get());
   } catch (const std::exception& e) {

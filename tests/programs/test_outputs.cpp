@@ -199,53 +199,69 @@ TEST(OutputsStale, NextGfPackRemovesTheTemporaryOfAKilledOne) {
 // by readers as unfinished, and --resume continues it to the uninterrupted run's result.
 TEST(OutputsStale, PartialOfAKilledGfShearIsUnfinishedAndResumable) {
   ScratchDir dir("outputs_killed_shear");
-  const std::string steps = " --steps 3000 ";
-  ASSERT_EQ(run_tool("gf-shear", "-i " + shear_packing() + steps + kShear + " -o " + (dir / "ref.h5")).exit_code, 0);
+  // A fast shear (many frames and contacts per second of wall time), killed shortly after
+  // a checkpoint: chunks flushed by the checkpoint are being rewritten and moved then,
+  // and HDF5 flushes some metadata of the rows written since (extents, chunk indexes).
+  const std::string run = " --steps 3000 --rate 1 --frame-every 20 --quiet";
+  ASSERT_EQ(run_tool("gf-shear", "-i " + shear_packing() + run + " -o " + (dir / "ref.h5")).exit_code, 0);
   const fs::path output = dir.path / "cut.h5";
-  const std::string args = "-i " + shear_packing() + steps + kShear + " -o " + output.string();
-  const pid_t pid = start_tool("gf-shear", args + " --checkpoint-every 0.01", dir / "log");
-  bool ended = false;
-  for (int k = 0; k < 500 && !fs::exists(checkpoint_of(output)) && !ended; ++k) {
-    ended = ::waitpid(pid, nullptr, WNOHANG) == pid;
-    if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  if (!ended) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    ::kill(pid, SIGKILL);
-    wait_exit_code(pid);
-  }
-  if (fs::exists(output) || !fs::exists(checkpoint_of(output)))
-    GTEST_SKIP() << "the run ended before it could be killed after a checkpoint";
-  const auto left = partials_of(output);
-  ASSERT_EQ(left.size(), 1u);
+  const std::string args = "-i " + shear_packing() + run + " -o " + output.string() + " --checkpoint-every 0.01";
+  int killed = 0, refused = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    fs::remove(output);
+    const pid_t pid = start_tool("gf-shear", args, dir / "log");
+    bool ended = false;
+    for (int k = 0; k < 500 && !fs::exists(checkpoint_of(output)) && !ended; ++k) {
+      ended = ::waitpid(pid, nullptr, WNOHANG) == pid;
+      if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (!ended) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20 + 15 * trial));
+      ::kill(pid, SIGKILL);
+      wait_exit_code(pid);
+    }
+    if (fs::exists(output) || !fs::exists(checkpoint_of(output))) continue;  // ended before the kill
+    ++killed;
+    const auto left = partials_of(output);
+    ASSERT_EQ(left.size(), 1u);
 
-  // A reader refuses the partial output, naming it and saying what it is.
-  for (const std::string& reader :
-       {std::string("gf-shear -i ") + left[0].string() + " --steps 10 " + kShear + " -o " + (dir / "branch.h5"),
-        std::string("gf-correlate ") + left[0].string() + " --quiet -o " + (dir / "corr.h5")}) {
-    const std::string tool = reader.substr(0, reader.find(' '));
-    auto r = run_tool(tool, reader.substr(reader.find(' ') + 1));
-    EXPECT_EQ(r.exit_code, 2) << tool << ": " << r.err;
-    EXPECT_EQ(count_lines(r.err), 1) << r.err;
-    EXPECT_NE(r.err.find(left[0].string()), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("unfinished"), std::string::npos) << r.err;
-  }
+    if (trial == 0) {
+      // A reader refuses the partial output, naming it and saying what it is.
+      for (const std::string& reader :
+           {std::string("gf-shear -i ") + left[0].string() + " --steps 10 " + kShear + " -o " + (dir / "branch.h5"),
+            std::string("gf-correlate ") + left[0].string() + " --quiet -o " + (dir / "corr.h5")}) {
+        const std::string tool = reader.substr(0, reader.find(' '));
+        auto r = run_tool(tool, reader.substr(reader.find(' ') + 1));
+        EXPECT_EQ(r.exit_code, 2) << tool << ": " << r.err;
+        EXPECT_EQ(count_lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find(left[0].string()), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("unfinished"), std::string::npos) << r.err;
+      }
+    }
 
-  // A kill between two flushes can leave a chunk of the partial output overwritten (HDF5
-  // reuses the space a rewritten chunk left): --resume must then refuse it, naming it
-  // and changing nothing, rather than write a final file that cannot be read.
-  const FileSnapshot before = snapshot({dir.path.string()});
-  auto resumed = run_tool("gf-shear", args + " --resume");
-  if (resumed.exit_code == 2 && resumed.err.find("is damaged") != std::string::npos) {
-    EXPECT_EQ(count_lines(resumed.err), 1) << resumed.err;
-    EXPECT_NE(resumed.err.find(left[0].string()), std::string::npos) << resumed.err;
-    EXPECT_TRUE(snapshot({dir.path.string()}) == before) << "the refusal changed a file";
-    return;
+    // --resume continues the run to the file the uninterrupted run writes. A kill that
+    // lands inside a flush (a checkpoint's own write of HDF5 metadata, every 10 ms here)
+    // can still leave metadata of two flushes mixed: that partial output is refused,
+    // naming it and changing nothing. With HDF5's default file-space reuse most kills
+    // here damage it (18 of 20); now at most one of these trials may.
+    const FileSnapshot before = snapshot({dir.path.string()});
+    auto resumed = run_tool("gf-shear", args + " --resume");
+    if (resumed.exit_code == 2 && resumed.err.find("is damaged") != std::string::npos && refused == 0) {
+      ++refused;
+      EXPECT_EQ(count_lines(resumed.err), 1) << resumed.err;
+      EXPECT_NE(resumed.err.find(left[0].string()), std::string::npos) << resumed.err;
+      EXPECT_TRUE(snapshot({dir.path.string()}) == before) << "the refusal changed a file";
+      fs::remove(checkpoint_of(output));
+      fs::remove(left[0]);
+      continue;
+    }
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    EXPECT_TRUE(partials_of(output).empty());
+    EXPECT_FALSE(fs::exists(checkpoint_of(output)));
+    expect_same_run(dir / "ref.h5", output.string());
   }
-  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_TRUE(partials_of(output).empty());
-  EXPECT_FALSE(fs::exists(checkpoint_of(output)));
-  expect_same_run(dir / "ref.h5", output.string());
+  if (killed == 0) GTEST_SKIP() << "every run ended before it could be killed after a checkpoint";
 }
 
 // Item 12: a directory that refuses new files for another reason than permissions

@@ -236,7 +236,7 @@ TEST_F(IoHandle, HandlesCloseWhenMovedAndDestroyed) {
 
 }  // namespace
 
-// A chunk overwritten in place (what a process killed between two flushes can leave) is
+// A chunk overwritten in place (what a power loss or a disk error can leave) is
 // found by reading every dataset, though the file opens and its shapes are right.
 TEST_F(IoReaderErrors, OverwrittenChunkIsFoundByReadingEveryDataset) {
   const std::string path = valid("chunk.h5", 64, 12);

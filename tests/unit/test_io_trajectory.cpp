@@ -18,6 +18,7 @@
 
 #include "core/random.hpp"
 #include "core/version.hpp"
+#include "io/hdf5_handle.hpp"
 #include "io/trajectory.hpp"
 #include "unit/expect_frame.hpp"
 
@@ -657,6 +658,87 @@ TEST_F(IoReopen, RefusesMissingFrames) {
     ADD_FAILURE() << "no UsageError";
   } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+// A process killed between two checkpoints leaves datasets of unequal lengths (HDF5
+// flushes the extent of some and not of others), each at least as long as at its last
+// checkpoint, and rows past a flushed extent hold fill values where no data reached
+// the file. Reopening keeps the checkpoint's rows and continues as if uninterrupted.
+TEST_F(IoReopen, ForAppendAcceptsDatasetsLongerThanTheCheckpoint) {
+  ShearRun run;
+  std::string whole = file("whole.h5");
+  {
+    TrajectoryWriter w = run.start(whole);
+    run.segment(w, 0, ShearRun::kFrames);
+  }
+  DatasetContents expected = all_datasets(whole);
+  const int keep = 3;
+  const std::int64_t checkpoint_step = (keep - 1) * ShearRun::kFrameEvery;
+  std::string resumed = file("uneven.h5");
+  {
+    TrajectoryWriter w = run.start(resumed);
+    w.mark_unfinished();
+    run.segment(w, 0, keep);
+    ShearRun::observables(w, int(checkpoint_step) + 1, int(checkpoint_step) + 4);
+  }
+  auto grow = [&](const std::string& name, hsize_t extra) {
+    File f = open_file(resumed, true);
+    Dataset d = open_dataset(f.get(), name);
+    std::vector<hsize_t> dims = shape(d.get());
+    dims[0] += extra;
+    ASSERT_GE(H5Dset_extent(d.get(), dims.data()), 0) << name;
+  };
+  grow("/particles/grains/velocity/value", 1);
+  grow("/particles/grains/position/step", 2);
+  grow("/contacts/frame_offset", 1);
+  grow("/contacts/pair", 5);
+  grow("/observables/strain/step", 3);  // steps of 0 after the last step written
+  grow("/observables/stress_collisional/value", 7);
+
+  // The resume path reads the partial output as of the checkpoint: its frames only.
+  {
+    TrajectoryReader partial = TrajectoryReader::partial_output(resumed, keep);
+    EXPECT_EQ(partial.frame_count(), std::size_t(keep));
+    EXPECT_EQ(partial.frame_steps().size(), std::size_t(keep));
+    for (std::size_t k = 0; k < std::size_t(keep); ++k) expect_same_frame(partial.frame(k), run.frames[k]);
+  }
+  {
+    TrajectoryWriter w = TrajectoryWriter::reopen_for_append(resumed, keep, checkpoint_step);
+    EXPECT_EQ(w.frame_count(), std::size_t(keep));
+    run.segment(w, keep, ShearRun::kFrames);
+  }
+  DatasetContents got = all_datasets(resumed);
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [name, contents] : expected) {
+    ASSERT_TRUE(got.contains(name)) << name;
+    EXPECT_EQ(got[name].first, contents.first) << name;
+    EXPECT_TRUE(got[name].second == contents.second) << name << " differs";
+  }
+}
+
+TEST_F(IoReopen, PartialOutputShorterThanTheCheckpointIsRefused) {
+  ShearRun run;
+  std::string path = file("short.h5");
+  {
+    TrajectoryWriter w = run.start(path);
+    w.mark_unfinished();
+    run.segment(w, 0, 3);
+  }
+  {
+    File f = open_file(path, true);
+    Dataset d = open_dataset(f.get(), "/contacts/frame_offset");
+    hsize_t rows = 3;  // one fewer than 3 frames need
+    ASSERT_GE(H5Dset_extent(d.get(), &rows), 0);
+  }
+  EXPECT_EQ(TrajectoryReader::partial_output(path, 2).frame_count(), 2u);
+  for (std::size_t frames : {3u, 4u}) {
+    try {
+      TrajectoryReader::partial_output(path, frames);
+      ADD_FAILURE() << "no UsageError for " << frames << " frames";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
   }
 }
 
