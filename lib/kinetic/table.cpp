@@ -256,6 +256,8 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
     run.span.push_back(double(o.step[r] - (r > 0 ? o.step[r - 1] : 0)) * run.dt);
   run.temperature_observed = subset(observable(o, path, "temperature"), f);
   run.pressure = subset(observable(o, path, "pressure"), f);
+  const std::vector<Mat2> kinetic_stress = tensor(o, path, "stress_kinetic");
+  for (std::size_t r = f; r < kinetic_stress.size(); ++r) run.p_kinetic.push_back(0.5 * kinetic_stress[r].trace());
   run.shear_stress = subset(observable(o, path, "shear_stress"), f);
   run.collisions = subset(observable(o, path, "collisions"), f);
   run.dissipated_energy = subset(observable(o, path, "dissipated_energy"), f);
@@ -362,14 +364,22 @@ EquilibriumRow equilibrium_row(const RunData& run) {
       delta_error(
           {{run.collisions, row.chi / a}, {run.span, -row.chi / b}, {run.temperature, -row.chi / (2 * c.temperature)}}),
       row.chi * run.rotational_temperature_error / (2 * c.temperature));
-  // Z = p/(n T_k) = p/p⁰, p⁰ = n m̄ T/2 with the thesis' T and the mean mass.
-  const double p = mean(run.pressure), p0_value = p0(n, run.mean_mass, c.temperature);
-  row.compressibility = p / p0_value;
+  // Z = p/(n T_k), n T_k the kinetic pressure ½ tr Σ m ṽṽ/A: T_k = ⟨m|V|²⟩/2 per degree of
+  // freedom, what the virial relation holds for with unequal masses.
+  const double p = mean(run.pressure), kinetic = mean(run.p_kinetic);
+  row.compressibility = p / kinetic;
   row.compressibility_error =
-      std::hypot(delta_error({{run.pressure, 1 / p0_value}, {run.temperature, -row.compressibility / c.temperature}}),
-                 row.compressibility * run.rotational_temperature_error / c.temperature);
+      delta_error({{run.pressure, 1 / kinetic}, {run.p_kinetic, -row.compressibility / kinetic}});
   row.chi_virial = chi_virial(row.compressibility, nu);
   row.chi_virial_error = row.compressibility_error / (2 * nu);
+  // The thesis' reading n T_k = p⁰ = n m̄ T/2 (mean mass, unweighted T): for unequal masses in
+  // equipartition it is n T_k·⟨m⟩⟨1/m⟩, so Z and χ come out smaller.
+  const double p0_value = p0(n, run.mean_mass, c.temperature), z_thesis = p / p0_value;
+  row.chi_virial_thesis_temperature = chi_virial(z_thesis, nu);
+  row.chi_virial_thesis_temperature_error =
+      std::hypot(delta_error({{run.pressure, 1 / p0_value}, {run.temperature, -z_thesis / c.temperature}}),
+                 z_thesis * run.rotational_temperature_error / c.temperature) /
+      (2 * nu);
   row.chi_henderson = henderson_chi(nu);
   return row;
 }
@@ -639,10 +649,17 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
           "1/time");
     ereal("chi", &EquilibriumRow::chi, "χ = ω/(nσ√(2πT)), mean diameter σ", "1");
     ereal("chi_error", &EquilibriumRow::chi_error, "blocked standard error of chi", "1");
-    ereal("compressibility", &EquilibriumRow::compressibility, "Z = p/(n T_k) = 2p/(n m T), p the total pressure", "1");
+    ereal("compressibility", &EquilibriumRow::compressibility,
+          "Z = p/(n T_k), p the total pressure, n T_k the kinetic pressure (T_k = <m|V|^2>/2, mass-weighted)", "1");
     ereal("compressibility_error", &EquilibriumRow::compressibility_error, "blocked standard error of Z", "1");
     ereal("chi_virial", &EquilibriumRow::chi_virial, "χ from the pressure, (Z − 1)/(2ν)", "1");
     ereal("chi_virial_error", &EquilibriumRow::chi_virial_error, "blocked standard error of chi_virial", "1");
+    ereal(
+        "chi_virial_thesis_temperature", &EquilibriumRow::chi_virial_thesis_temperature,
+        "χ from the pressure with the thesis' reading n T_k = p0 = n m T/2 (mean mass, unweighted T): (p/p0 − 1)/(2ν)",
+        "1");
+    ereal("chi_virial_thesis_temperature_error", &EquilibriumRow::chi_virial_thesis_temperature_error,
+          "blocked standard error of chi_virial_thesis_temperature", "1");
     ereal("chi_henderson", &EquilibriumRow::chi_henderson, "Henderson's (1 − 7ν/16)/(1 − ν)² at ν (equal disks)", "1");
   }
   w.close();

@@ -91,7 +91,7 @@ struct RunData {
   double dt = 0, area = 0, number_density = 0, mean_mass = 0, mean_diameter = 0;
   double first_strain = 0, last_strain = 0, first_time = 0, last_time = 0;
   // Per window row: its span (steps since the previous row × dt) and the observables.
-  std::vector<double> span, temperature_observed, pressure, p_static, p_collisional, s_static, s_collisional,
+  std::vector<double> span, temperature_observed, pressure, p_kinetic, p_static, p_collisional, s_static, s_collisional,
       shear_stress, collisions, dissipated_energy, velocity_product;  // velocity_product empty if absent
   // Per stored frame in the window (step > 0): births (contacts of age 1), the sum over them of
   // the product of the pre-collisional normal velocities, and the rotational part of the
@@ -118,7 +118,10 @@ struct EquilibriumRow {
   std::int32_t grains = 0;
   double packing_fraction = 0, temperature = 0, temperature_drift = 0;
   double collision_frequency = 0, collision_frequency_error = 0, chi = 0, chi_error = 0;
+  // Z = p/(n T_k) with n T_k the kinetic pressure (T_k = ⟨m|V|²⟩/2, mass-weighted), and the
+  // same with the thesis' reading n T_k = n m̄ T/2 (p⁰), which differs for unequal masses.
   double compressibility = 0, compressibility_error = 0, chi_virial = 0, chi_virial_error = 0;
+  double chi_virial_thesis_temperature = 0, chi_virial_thesis_temperature_error = 0;
   double chi_henderson = 0;
 };
 

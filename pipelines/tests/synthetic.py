@@ -618,7 +618,8 @@ def write_kinetic_table(path, rows, equilibrium=(), grains=1000):
             q["grains"] = np.full(len(equilibrium), grains, dtype=np.int32)
             for name in (
                 "packing_fraction temperature temperature_drift collision_frequency collision_frequency_error chi "
-                "chi_error compressibility compressibility_error chi_virial chi_virial_error chi_henderson"
+                "chi_error compressibility compressibility_error chi_virial chi_virial_error chi_virial_thesis_temperature "
+                "chi_virial_thesis_temperature_error chi_henderson"
             ).split():
                 q[name] = np.array([row.get(name, np.nan) for row in equilibrium], dtype=float)
     return path

@@ -199,6 +199,8 @@ const std::vector<std::string> kEquilibriumDatasets = {"input",
                                                        "compressibility_error",
                                                        "chi_virial",
                                                        "chi_virial_error",
+                                                       "chi_virial_thesis_temperature",
+                                                       "chi_virial_thesis_temperature_error",
                                                        "chi_henderson"};
 
 // Packings shared by the tests of this file.
@@ -305,8 +307,13 @@ TEST(GfKinetic, EquilibriumTableInterpolatesChiAtTheRunsNu) {
   // Both gases: ω = 1500, T = 2, σ = 1, n = 0.04: χ = ω/(nσ√(2πT)), the same at both ν.
   const double chi = kinetic::chi_from_collision_frequency(1500, 0.04, 1, 2);
   for (double c : read_doubles(out, "/equilibrium/chi")) EXPECT_NEAR(c, chi, 1e-9 * chi);
-  // Z = p/(n m T/2) = 4/(0.04) = 100.
-  for (double z : read_doubles(out, "/equilibrium/compressibility")) EXPECT_NEAR(z, 100, 1e-9);
+  // Z = p/(n T_k) with n T_k the kinetic pressure, ½ tr of the identity: 4/1; with the thesis'
+  // n T_k = n m T/2 = 0.04: Z = 100, χ = (Z − 1)/(2ν).
+  for (double z : read_doubles(out, "/equilibrium/compressibility")) EXPECT_NEAR(z, 4, 1e-12);
+  const std::vector<double> chi_thesis = read_doubles(out, "/equilibrium/chi_virial_thesis_temperature");
+  ASSERT_EQ(chi_thesis.size(), 2u);
+  EXPECT_NEAR(chi_thesis[0], 99 / (2 * 0.5), 1e-9);
+  EXPECT_NEAR(chi_thesis[1], 99 / (2 * 0.7), 1e-9);
   EXPECT_EQ(read_strings(out, "/equilibrium/input"), (std::vector<std::string>{ea, eb}));
   EXPECT_EQ(read_ints(out, "/runs/chi_source")[0], 0);
   EXPECT_NEAR(read_doubles(out, "/runs/chi")[0], chi, 1e-9 * chi);
