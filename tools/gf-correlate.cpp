@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
@@ -16,14 +15,6 @@
 using namespace granflow;
 
 namespace {
-std::vector<std::string> comma_list(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
 int whole(const CommandLine& cli, const std::string& name, long long lo) {
   const long long v = cli.integer(name);
   if (v < lo || v > 1000000000) throw UsageError("option --" + name + ": must be in [" + std::to_string(lo) + ", 1e9]");
@@ -118,8 +109,7 @@ int main(int argc, char** argv) {
       s.xi_el = cli.real("xi-el");
       require_positive("xi-el", *s.xi_el);
     }
-    const std::vector<std::string> references =
-        cli.given("reference") ? comma_list(cli.text("reference")) : std::vector<std::string>{};
+    const std::vector<std::string> references = cli.text_list("reference");
     if (cli.given("reference") && references.empty()) throw UsageError("option --reference: no file given");
     s.force_bin_width = cli.real("force-bin-width");
     require_positive("force-bin-width", s.force_bin_width);

@@ -2,7 +2,6 @@
 // gf-shear trajectories, with χ measured in elastic unsheared runs.
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
@@ -11,16 +10,6 @@
 #include "kinetic/table.hpp"
 
 using namespace granflow;
-
-namespace {
-std::vector<std::string> comma_list(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   return run_tool("gf-kinetic", [&] {
@@ -61,8 +50,7 @@ int main(int argc, char** argv) {
     s.detect_transient = cli.flag_set("detect-transient");
     s.extrapolate = cli.flag_set("extrapolate");
     s.quiet = cli.flag_set("quiet");
-    const std::vector<std::string> equilibrium =
-        cli.given("equilibrium") ? comma_list(cli.text("equilibrium")) : std::vector<std::string>{};
+    const std::vector<std::string> equilibrium = cli.text_list("equilibrium");
     if (cli.given("equilibrium") && equilibrium.empty()) throw UsageError("option --equilibrium: no file given");
     if (s.extrapolate && equilibrium.empty())
       throw UsageError("option --extrapolate: needs --equilibrium (without it chi is Henderson's formula)");

@@ -224,6 +224,15 @@ const CommandLine::Spec* CommandLine::find_of_kind(const std::string& name, Opti
   return s;
 }
 
+std::vector<std::string> CommandLine::text_list(const std::string& name) const {
+  std::vector<std::string> items;
+  if (!has(name)) return items;
+  std::stringstream in(text(name));
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
 std::string CommandLine::text(const std::string& name) const {
   const Spec* s = find(name);
   if (s->kind == OptionKind::flag) throw std::logic_error("option --" + name + " is a flag, read as text");

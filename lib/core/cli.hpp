@@ -47,6 +47,9 @@ class CommandLine {
   bool given(const std::string& name) const;  // given on the command line
   bool flag_set(const std::string& name) const;
   std::string text(const std::string& name) const;
+  // A text option holding a comma-separated list (FILE,FILE,...): its non-empty items, none
+  // when the option was not given and has no default.
+  std::vector<std::string> text_list(const std::string& name) const;
   // The value of a real or integer option: a finite double, or a whole number (1e4 is
   // accepted), else UsageError naming the option. Reading an option of another declared
   // kind is a programming error (std::logic_error).

@@ -161,22 +161,23 @@ Opened open(const std::string& path) {
   return o;
 }
 
-std::vector<double> observable(const Opened& o, const std::string& path, const char* name) {
+// An observable's rows, checked: present and as long as /observables/strain.
+template <class Read>
+auto observable_rows(const Opened& o, const std::string& path, const char* name, Read read) {
   if (!o.reader.has_observable(name))
     throw UsageError("'" + path + "': no /observables/" + name + " (not a gf-shear trajectory of this version)");
-  std::vector<double> x = o.reader.observable_scalar(name);
+  auto x = read(name);
   if (x.size() != o.strain.size())
     throw UsageError("'" + path + "': /observables/" + name + " and /observables/strain differ in length");
   return x;
 }
 
+std::vector<double> observable(const Opened& o, const std::string& path, const char* name) {
+  return observable_rows(o, path, name, [&](const char* n) { return o.reader.observable_scalar(n); });
+}
+
 std::vector<Mat2> tensor(const Opened& o, const std::string& path, const char* name) {
-  if (!o.reader.has_observable(name))
-    throw UsageError("'" + path + "': no /observables/" + name + " (not a gf-shear trajectory of this version)");
-  std::vector<Mat2> x = o.reader.observable_tensor(name);
-  if (x.size() != o.strain.size())
-    throw UsageError("'" + path + "': /observables/" + name + " and /observables/strain differ in length");
-  return x;
+  return observable_rows(o, path, name, [&](const char* n) { return o.reader.observable_tensor(n); });
 }
 
 Window window(const Opened& o, const std::string& path, const Settings& s) {

@@ -215,3 +215,12 @@ TEST(CoreOutputFile, CommitRenamesAndAbandonRemoves) {
   EXPECT_THROW(OutputFile(dir.string()), UsageError);
   fs::remove_all(dir);
 }
+
+TEST(CoreCli, TextListSplitsAtCommasAndSkipsEmptyItems) {
+  auto given = related_cli();
+  ASSERT_TRUE(parse(given, {"-i", "a.h5,,b.h5,"}));
+  EXPECT_EQ(given.text_list("input"), (std::vector<std::string>{"a.h5", "b.h5"}));
+  auto absent = related_cli();
+  ASSERT_TRUE(parse(absent, {}));
+  EXPECT_TRUE(absent.text_list("input").empty());
+}
