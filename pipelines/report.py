@@ -707,13 +707,14 @@ def ch6_section(kinetic_path, correlate_path):
             "Equilibrium runs (χ from the collision frequency, ω = √(2π T) χ n σ, beside the virial estimate "
             "and Henderson's formula):",
             "",
-            "| ν | T drift | χ (collisions) | χ (virial) | χ Henderson |",
-            "|---|---|---|---|---|",
+            "| ν | energy drift | T drift | χ (collisions) | χ (virial) | χ Henderson |",
+            "|---|---|---|---|---|---|",
         ]
         for i in range(len(eq["packing_fraction"])):
             g = lambda name: float(eq[name][i]) if name in eq else kt.NAN  # noqa: E731
             lines.append(
-                f"| {g('packing_fraction'):.3f} | {kt.fmt_ratio(g('temperature_drift'))} | "
+                f"| {g('packing_fraction'):.3f} | {kt.fmt_ratio(g('energy_drift'))} | "
+                f"{kt.fmt_ratio(g('temperature_drift'))} | "
                 f"{kt.fmt_pm(g('chi'), g('chi_error'))} | {kt.fmt_pm(g('chi_virial'), g('chi_virial_error'))} | "
                 f"{kt.fmt_ratio(g('chi_henderson'))} |"
             )

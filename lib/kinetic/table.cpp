@@ -355,6 +355,9 @@ EquilibriumRow equilibrium_row(const RunData& run) {
   const std::size_t q = run.temperature.size() / 4;
   const std::span<const double> t(run.temperature);
   row.temperature_drift = q > 0 ? (mean(t.last(q)) - mean(t.first(q))) / c.temperature : kNaN;
+  double dissipated = 0;
+  for (double d : run.dissipated_energy) dissipated += d;
+  row.energy_drift = -dissipated / (mean(run.p_kinetic) * run.area);
   row.collision_frequency = c.omega;
   row.collision_frequency_error = c.omega_error;
   const double n = run.number_density, sigma = run.mean_diameter, nu = run.packing_fraction;
@@ -644,6 +647,10 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
           "length^2/time^2");
     ereal("temperature_drift", &EquilibriumRow::temperature_drift,
           "relative change of T between the first and last quarter of the window", "1");
+    ereal("energy_drift", &EquilibriumRow::energy_drift,
+          "relative change of the kinetic energy over the window, −Σ dissipated_energy / (½ tr stress_kinetic · Lx·Ly) "
+          "(0 for an exactly elastic gas)",
+          "1");
     ereal("collision_frequency", &EquilibriumRow::collision_frequency,
           "collisions per grain per unit time ω (per-step collisions observable)", "1/time");
     ereal("collision_frequency_error", &EquilibriumRow::collision_frequency_error, "blocked standard error of ω",

@@ -117,6 +117,9 @@ struct EquilibriumRow {
   std::string input;
   std::int32_t grains = 0;
   double packing_fraction = 0, temperature = 0, temperature_drift = 0;
+  // −Σ dissipated_energy over the window / the translational kinetic energy (½ tr Σ m ṽṽ):
+  // the relative change of the energy an elastic gas must conserve.
+  double energy_drift = 0;
   double collision_frequency = 0, collision_frequency_error = 0, chi = 0, chi_error = 0;
   // Z = p/(n T_k) with n T_k the kinetic pressure (T_k = ⟨m|V|²⟩/2, mass-weighted), and the
   // same with the thesis' reading n T_k = n m̄ T/2 (p⁰), which differs for unequal masses.

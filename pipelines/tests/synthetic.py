@@ -617,7 +617,7 @@ def write_kinetic_table(path, rows, equilibrium=(), grains=1000):
             q["input"] = np.array([row["input"].encode() for row in equilibrium])
             q["grains"] = np.full(len(equilibrium), grains, dtype=np.int32)
             for name in (
-                "packing_fraction temperature temperature_drift collision_frequency collision_frequency_error chi "
+                "packing_fraction temperature temperature_drift energy_drift collision_frequency collision_frequency_error chi "
                 "chi_error compressibility compressibility_error chi_virial chi_virial_error chi_virial_thesis_temperature "
                 "chi_virial_thesis_temperature_error chi_henderson"
             ).split():
