@@ -47,55 +47,20 @@ CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
 # Chapter 6, kinetic theory (gf-kinetic): the μ = 0 runs of the chapter-4 grid at CH4_RATE, and
 # elastic (e = 1) unsheared runs at every ν of that grid for χ (packings at ν outside PACK_NU are
-# made by the same rule). The quick size's recipe (quick.mk), NOT measured at N = 10⁴: each ν
-# takes the steps of the nearest denser ν measured there (a smaller step is safe, only slower);
-# check the energy drift (docs/method/kinetic.md, "The recipe") before trusting χ.
+# made by the same rule). The quick size's recipe (ch6_recipe.mk), NOT measured at N = 10⁴:
+# a ν it has no steps for takes those of the nearest denser ν measured (a smaller step is safe,
+# only slower); check each run's energy drift (gf-kinetic's /equilibrium/energy_drift).
 CH6_EQ_NU            := $(CH4_NU)
 CH6_EQ_SEED          := $(CH4_SEED)
-CH6_EQ_WARMUP_STEPS  := 80000
-CH6_EQ_SETTLE_STEPS  := 80000
-CH6_EQ_STEPS         := 200000
-CH6_EQ_FRAME_EVERY   := 2000
-# Rows every 10 steps: the pressure of a row is one step's impulses (about 0.1 collision per
-# step at ω·dt = 2.5e-4, N = 1000), heavy-tailed; every 100 steps χ_virial's error is 10 %.
-CH6_EQ_OBSERVE_EVERY := 10
-CH6_EQ_WARMUP_DT_0.100 := 0.004
-CH6_EQ_WARMUP_DT_0.200 := 0.004
-CH6_EQ_WARMUP_DT_0.300 := 0.004
-CH6_EQ_WARMUP_DT_0.400 := 0.0025
-CH6_EQ_WARMUP_DT_0.500 := 0.0015
-CH6_EQ_WARMUP_DT_0.600 := 8e-4
-CH6_EQ_WARMUP_DT_0.650 := 3e-4
-CH6_EQ_WARMUP_DT_0.700 := 3e-4
-CH6_EQ_WARMUP_DT_0.720 := 1e-4
-CH6_EQ_WARMUP_DT_0.740 := 1e-4
-CH6_EQ_WARMUP_DT_0.760 := 1e-4
-CH6_EQ_WARMUP_DT_0.770 := 1e-4
-CH6_EQ_WARMUP_DT_0.780 := 1e-4
-CH6_EQ_WARMUP_DT_0.790 := 1e-4
-CH6_EQ_WARMUP_DT_0.800 := 1e-4
-CH6_EQ_WARMUP_DT_0.810 := 2e-5
-CH6_EQ_WARMUP_DT_0.820 := 2e-5
-CH6_EQ_DT_0.100 := 2.3e-4
-CH6_EQ_DT_0.200 := 2.3e-4
-CH6_EQ_DT_0.300 := 2.3e-4
-CH6_EQ_DT_0.400 := 1.4e-4
-CH6_EQ_DT_0.500 := 8.1e-5
-CH6_EQ_DT_0.600 := 4.2e-5
-CH6_EQ_DT_0.650 := 1.6e-5
-CH6_EQ_DT_0.700 := 1.6e-5
-CH6_EQ_DT_0.720 := 8.2e-6
-CH6_EQ_DT_0.740 := 8.2e-6
-CH6_EQ_DT_0.760 := 8.2e-6
-CH6_EQ_DT_0.770 := 3.2e-6
-CH6_EQ_DT_0.780 := 3.2e-6
-CH6_EQ_DT_0.790 := 3.2e-6
-CH6_EQ_DT_0.800 := 3.2e-6
-CH6_EQ_DT_0.810 := 7.3e-7
-CH6_EQ_DT_0.820 := 7.3e-7
-# ν = 0.830 and any other ν: the densest measured steps.
-CH6_EQ_WARMUP_DT     := 2e-5
-CH6_EQ_DT            := 7.3e-7
+include pipelines/sizes/ch6_recipe.mk
+CH6_EQ_WARMUP_DT_0.100 := $(CH6_EQ_WARMUP_DT_0.200)
+CH6_EQ_DT_0.100        := $(CH6_EQ_DT_0.200)
+CH6_EQ_WARMUP_DT_0.650 := $(CH6_EQ_WARMUP_DT_0.700)
+CH6_EQ_DT_0.650        := $(CH6_EQ_DT_0.700)
+$(foreach nu,0.720 0.740,$(eval CH6_EQ_WARMUP_DT_$(nu) := $(CH6_EQ_WARMUP_DT_0.760))$(eval CH6_EQ_DT_$(nu) := $(CH6_EQ_DT_0.760)))
+$(foreach nu,0.770 0.780 0.790,$(eval CH6_EQ_WARMUP_DT_$(nu) := $(CH6_EQ_WARMUP_DT_0.800))$(eval CH6_EQ_DT_$(nu) := $(CH6_EQ_DT_0.800)))
+CH6_EQ_WARMUP_DT_0.810 := $(CH6_EQ_WARMUP_DT_0.820)
+CH6_EQ_DT_0.810        := $(CH6_EQ_DT_0.820)
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
 # Chapter 4, incline: the thesis' sizes are "heights and widths ranging between 25 and 300
 # grain diameters" (§4.3.1); here a layer 50 diameters thick on a base 100 wide (~5·10³

@@ -58,40 +58,11 @@ CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    := 0.810 0.825
 # Chapter 6, kinetic theory (gf-kinetic): the μ = 0 runs of the chapter-4 grid at CH4_RATE, and
 # elastic (e = 1) unsheared runs at every ν of that grid for χ (from its packing; CH6_EQ_NU must
-# cover the sheared runs' ν: gf-kinetic does not extrapolate without --extrapolate). The recipe
-# (docs/method/kinetic.md, "The recipe"; measured on these packings, seed 1, N = 1000): a
-# warm-up of 80000 steps at the coarse step DTW from the packing at T0 = 1, 80000 settling
-# steps and 200000 measured steps at DT = 2.5e-4/ω (ω the collision frequency at the end of
-# the warm-up): energy drift < 0.5 % at every ν, χ at DT and DT/2 agree within errors at
-# ν = 0.5, 0.8, 0.82; 127 s of CPU for the eight ν.
+# cover the sheared runs' ν: gf-kinetic does not extrapolate without --extrapolate), made by
+# the recipe measured on these packings (ch6_recipe.mk).
 CH6_EQ_NU            := $(CH4_NU)
 CH6_EQ_SEED          := $(CH4_SEED)
-CH6_EQ_WARMUP_STEPS  := 80000
-CH6_EQ_SETTLE_STEPS  := 80000
-CH6_EQ_STEPS         := 200000
-CH6_EQ_FRAME_EVERY   := 2000
-# Rows every 10 steps: the pressure of a row is one step's impulses (about 0.1 collision per
-# step at ω·dt = 2.5e-4, N = 1000), heavy-tailed; every 100 steps χ_virial's error is 10 %.
-CH6_EQ_OBSERVE_EVERY := 10
-CH6_EQ_WARMUP_DT_0.300 := 0.004
-CH6_EQ_WARMUP_DT_0.400 := 0.0025
-CH6_EQ_WARMUP_DT_0.500 := 0.0015
-CH6_EQ_WARMUP_DT_0.600 := 8e-4
-CH6_EQ_WARMUP_DT_0.700 := 3e-4
-CH6_EQ_WARMUP_DT_0.760 := 1e-4
-CH6_EQ_WARMUP_DT_0.800 := 1e-4
-CH6_EQ_WARMUP_DT_0.820 := 2e-5
-CH6_EQ_DT_0.300      := 2.3e-4
-CH6_EQ_DT_0.400      := 1.4e-4
-CH6_EQ_DT_0.500      := 8.1e-5
-CH6_EQ_DT_0.600      := 4.2e-5
-CH6_EQ_DT_0.700      := 1.6e-5
-CH6_EQ_DT_0.760      := 8.2e-6
-CH6_EQ_DT_0.800      := 3.2e-6
-CH6_EQ_DT_0.820      := 7.3e-7
-# A ν of CH6_EQ_NU without its own steps above (none in this grid) uses these.
-CH6_EQ_WARMUP_DT     := 2e-5
-CH6_EQ_DT            := 7.3e-7
+include pipelines/sizes/ch6_recipe.mk
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
 # grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. Cost: docs/performance.md, gf-incline.

@@ -161,6 +161,17 @@ DatasetContents all_datasets(const std::string& path) {
   return out;
 }
 
+// Every dataset of `path` has the shape and the bytes it has in `expected`, and no other.
+void expect_datasets(const std::string& path, const DatasetContents& expected) {
+  DatasetContents got = all_datasets(path);
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [name, contents] : expected) {
+    ASSERT_TRUE(got.contains(name)) << name;
+    EXPECT_EQ(got[name].first, contents.first) << name;
+    EXPECT_TRUE(got[name].second == contents.second) << name << " differs";
+  }
+}
+
 std::string file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -634,13 +645,7 @@ TEST_F(IoReopen, ForAppendEqualsUninterruptedRun) {
       EXPECT_EQ(w.frame_count(), std::size_t(keep));
       run.segment(w, keep, ShearRun::kFrames);
     }
-    DatasetContents got = all_datasets(resumed);
-    ASSERT_EQ(got.size(), expected.size());
-    for (const auto& [name, contents] : expected) {
-      ASSERT_TRUE(got.contains(name)) << name;
-      EXPECT_EQ(got[name].first, contents.first) << name;
-      EXPECT_TRUE(got[name].second == contents.second) << name << " differs";
-    }
+    expect_datasets(resumed, expected);
     TrajectoryReader reader(resumed);
     for (std::size_t k = 0; k < reader.frame_count(); ++k) expect_same_frame(reader.frame(k), run.frames[k]);
   }
@@ -708,13 +713,7 @@ TEST_F(IoReopen, ForAppendAcceptsDatasetsLongerThanTheCheckpoint) {
     EXPECT_EQ(w.frame_count(), std::size_t(keep));
     run.segment(w, keep, ShearRun::kFrames);
   }
-  DatasetContents got = all_datasets(resumed);
-  ASSERT_EQ(got.size(), expected.size());
-  for (const auto& [name, contents] : expected) {
-    ASSERT_TRUE(got.contains(name)) << name;
-    EXPECT_EQ(got[name].first, contents.first) << name;
-    EXPECT_TRUE(got[name].second == contents.second) << name << " differs";
-  }
+  expect_datasets(resumed, expected);
 }
 
 TEST_F(IoReopen, PartialOutputShorterThanTheCheckpointIsRefused) {
