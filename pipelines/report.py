@@ -713,8 +713,8 @@ def ch6_section(kinetic_path, correlate_path):
         for i in range(len(eq["packing_fraction"])):
             g = lambda name: float(eq[name][i]) if name in eq else kt.NAN  # noqa: E731
             lines.append(
-                f"| {g('packing_fraction'):.3f} | {kt.fmt_ratio(g('energy_drift'))} | "
-                f"{kt.fmt_ratio(g('temperature_drift'))} | "
+                f"| {g('packing_fraction'):.3f} | {kt.fmt_percent(g('energy_drift'))} | "
+                f"{kt.fmt_percent(g('temperature_drift'))} | "
                 f"{kt.fmt_pm(g('chi'), g('chi_error'))} | {kt.fmt_pm(g('chi_virial'), g('chi_virial_error'))} | "
                 f"{kt.fmt_ratio(g('chi_henderson'))} |"
             )

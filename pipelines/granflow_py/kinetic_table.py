@@ -150,6 +150,11 @@ def fmt_nu(value):
     return "none" if not np.isfinite(value) else f"{value:.3f}"
 
 
+def fmt_percent(value):
+    """A relative change in per cent with its sign, or "not measured" for NaN."""
+    return "not measured" if not np.isfinite(value) else f"{100 * value:+.2f} %"
+
+
 def fmt_ratio(value):
     return "not measured" if not np.isfinite(value) else f"{value:.3f}"
 
