@@ -321,8 +321,8 @@ namespace {
 
 struct Common {
   double temperature = 0, temperature_error = 0;
-  double omega = 0, omega_error = 0;  // collisions per grain per unit time
-  double omega_sum_collisions = 0, omega_sum_span = 0;
+  double omega = 0, omega_error = 0;          // collisions per grain per unit time
+  double mean_collisions = 0, mean_span = 0;  // window means of the rows ω is the ratio of
 };
 
 Common common(const RunData& run) {
@@ -331,7 +331,7 @@ Common common(const RunData& run) {
   c.temperature_error = std::hypot(mean_error(run.temperature), run.rotational_temperature_error);
   // ω = 2Σcollisions/(NΣΔt): a ratio of window means.
   const double n = double(run.grains);
-  const double a = mean(run.collisions), b = mean(run.span);
+  const double a = c.mean_collisions = mean(run.collisions), b = c.mean_span = mean(run.span);
   c.omega = 2 * a / (n * b);
   c.omega_error = delta_error({{run.collisions, 2 / (n * b)}, {run.span, -c.omega / b}});
   return c;
@@ -363,7 +363,7 @@ EquilibriumRow equilibrium_row(const RunData& run) {
   const double n = run.number_density, sigma = run.mean_diameter, nu = run.packing_fraction;
   row.chi = chi_from_collision_frequency(c.omega, n, sigma, c.temperature);
   // χ ∝ ω·T^(−1/2) with ω = 2ā/(Nb̄): linearised in the means of collisions, span and T.
-  const double a = mean(run.collisions), b = mean(run.span);
+  const double a = c.mean_collisions, b = c.mean_span;
   row.chi_error = std::hypot(
       delta_error(
           {{run.collisions, row.chi / a}, {run.span, -row.chi / b}, {run.temperature, -row.chi / (2 * c.temperature)}}),
