@@ -149,6 +149,17 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
     throw UsageError("checkpoint '" + plan.checkpoint_path + "': its partial output" +
                      (checkpoint.partial.empty() ? std::string() : " '" + checkpoint.partial + "'") +
                      " is missing; run without --resume to start over");
+  // Read first, so that any unreadable chunk or index, also one the shape checks below would
+  // meet, is reported as damage. Files are written without reuse of file space
+  // (io::create_file), so a kill -9 leaves the data the last flush indexed intact; a partial
+  // output damaged all the same (a kill inside a flush, power loss, a disk error, a copy cut
+  // short) is refused rather than continued into a final file that cannot be read.
+  try {
+    io::read_every_dataset(io::open_file(checkpoint.partial_path, /*writable=*/false).get());
+  } catch (const std::exception& e) {
+    throw UsageError("partial output '" + checkpoint.partial_path + "' is damaged (" + e.what() +
+                     "), as a process killed while writing can leave it; run without --resume to start over");
+  }
   // Its datasets may be longer than at the checkpoint (a process killed after it), never shorter.
   const io::TrajectoryReader partial = [&] {
     try {
@@ -158,16 +169,6 @@ std::optional<Checkpoint> resume_point(const CommandLine& cli, const RunPlan& pl
       throw UsageError(std::string(e.what()) + "; run without --resume to start over");
     }
   }();
-  // Files are written without reuse of file space (io::create_file), so a kill -9 leaves
-  // the data the last flush indexed intact; a partial output damaged all the same (power
-  // loss, a disk error, a copy cut short) is refused rather than continued into a final
-  // file that cannot be read.
-  try {
-    io::read_every_dataset(io::open_file(checkpoint.partial_path, /*writable=*/false).get());
-  } catch (const std::exception& e) {
-    throw UsageError("partial output '" + checkpoint.partial_path + "' is damaged (" + e.what() +
-                     "), as a process killed while writing can leave it; run without --resume to start over");
-  }
   const io::Parameters parameters = partial.parameters();
   if (!input_path.empty() && parameters.has("input_sha256")) {
     const std::string then = parameters.get_string("input_sha256"), now = sha256_file(input_path);
