@@ -29,9 +29,10 @@ double power_sum_integer(double b, double n) {
 }
 
 // Σ_{ℓ=1}^{n} Σ_{i=0}^{ℓ} q^i m^{ℓ−i} by T_ℓ = m T_{ℓ−1} + q^ℓ (T_0 = 1): the definition
-// summed in ℓ order, no division by m − q.
+// summed in ℓ order, no division by m − q. Beyond the loop limit the closed form, which
+// has no value at m = q there.
 double mixed_sum_integer(double q, double m, double n) {
-  if (n > kLoopLimit) return kNaN;
+  if (n > kLoopLimit) return m != q ? (m * power_sum_integer(m, n) - q * power_sum_integer(q, n)) / (m - q) : kNaN;
   double sum = 0, inner = 1, q_power = 1;
   for (double l = 1; l <= n; ++l) {
     q_power *= q;

@@ -348,6 +348,11 @@ TEST(Network, GeometricSumsToANonIntegerLimit) {
   EXPECT_DOUBLE_EQ(power_sum(1.0, 3.5, SumLimit::floor), 3.0);
   EXPECT_DOUBLE_EQ(power_sum(0.0, 3.5, SumLimit::continuation), 0.0);
   EXPECT_DOUBLE_EQ(power_sum(0.8, 0.0, SumLimit::continuation), 0.0);
+  EXPECT_NEAR(power_sum(0.8, 0.5, SumLimit::continuation), 4 * (1 - std::sqrt(0.8)), 1e-15);  // below one link
+  EXPECT_DOUBLE_EQ(power_sum(0.8, 0.5, SumLimit::floor), 0.0);
+  // Huge limits (a tiny ξ_el) use the closed forms: S → b/(1 − b).
+  EXPECT_NEAR(power_sum(0.5, 1e9, SumLimit::floor), 1.0, 1e-15);
+  EXPECT_NEAR(mixed_sum(0.25, 0.5, 1e9, SumLimit::floor), (0.5 * 1.0 - 0.25 * (0.25 / 0.75)) / 0.25, 1e-14);
   // The continuation is continuous across an integer limit and near b = 1.
   EXPECT_NEAR(power_sum(0.8, 3 + 1e-9, SumLimit::continuation), 1.952, 1e-8);
   EXPECT_NEAR(power_sum(1 - 1e-12, 3.5, SumLimit::continuation), 3.5, 1e-10);
