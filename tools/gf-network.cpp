@@ -13,18 +13,18 @@ using namespace granflow;
 
 int main(int argc, char** argv) {
   return run_tool("gf-network", [&] {
-    CommandLine cli(
-        "gf-network", "RUN.h5... -o OUT.h5 [--correlation TABLE.h5] [options]",
-        "The force-network model (thesis 6.2) against gf-shear trajectories. Per run, over the stored frames of\n"
-        "a window past the transient: the coordination z of long-lived contacts (age >= 2), the deflection\n"
-        "between consecutive links through a grain (its distribution P_C(x), <cos x>, <cos x cos 2x> and\n"
-        "Phi, Psi = twice those, eq. 6.23), the fabric and force-fabric tensors and from them a_c, a'_c, a_f,\n"
-        "a'_f (eqs. 6.20-6.21), the 4theta components of the angular histograms of C(theta) and\n"
-        "F_bc(theta), and both sides of eqs. 6.27-6.29: (p^s - p^bc)/p^bc, (s^s - s^bc)/p^bc and\n"
-        "(Sxx^s - Sxx^bc)/p^bc measured from the stress observables, and predicted from the contacts with\n"
-        "the sums over links up to xi/xi_el - 1 (read from --correlation; continued to a non-integer limit,\n"
-        "and up to its floor). Errors: delta method over the frames. Output: one HDF5 table, one row per\n"
-        "run (docs/file-format.md, gf-network table).");
+    CommandLine cli("gf-network", "RUN.h5... -o OUT.h5 [--correlation TABLE.h5] [options]",
+                    "The force-network model (thesis 6.2) against gf-shear trajectories. Per run, over the stored\n"
+                    "frames of a window past the transient: the coordination z of long-lived contacts (age >= 2),\n"
+                    "the deflection x between consecutive links through a grain (its distribution P_C(x), <cos\n"
+                    "x>, <cos x cos 2x>, and Phi, Psi = twice those, eq. 6.23), the fabric and force-fabric\n"
+                    "tensors and from them a_c, a'_c, a_f, a'_f (eqs. 6.20-6.21), the 4theta components of the\n"
+                    "angular histograms of C(theta) and F_bc(theta), and both sides of eqs. 6.27-6.29: (p^s -\n"
+                    "p^bc)/p^bc, (s^s - s^bc)/p^bc and (Sxx^s - Sxx^bc)/p^bc measured from the stress\n"
+                    "observables, and predicted from the contacts with the sums over links up to xi/xi_el - 1\n"
+                    "(xi/xi_el read from --correlation; the sums continued to a non-integer limit, and up to its\n"
+                    "floor). Errors: delta method over the frames. Output: one HDF5 table, one row per run\n"
+                    "(docs/file-format.md, gf-network table).");
     cli.positionals("RUN.h5", "gf-shear trajectories with stored frames (contacts), one row of /runs each", 1);
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.text_option("correlation", 0, "TABLE",
