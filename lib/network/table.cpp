@@ -493,7 +493,15 @@ std::vector<Column> run_columns() {
 
 void write_table(const std::string& path, const Table& table, const io::Parameters& provenance) {
   io::AnalysisWriter w(path);
-  w.write_parameters(provenance);
+  // The settings also under the names the readers of the table use (underscores).
+  io::Parameters parameters = provenance;
+  parameters.set("from_strain", table.settings.window.from_strain);
+  parameters.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
+  parameters.set("angle_bins", std::int64_t(table.settings.angle_bins));
+  parameters.set("deflection_bins", std::int64_t(table.settings.deflection_bins));
+  parameters.set("blocks", std::int64_t(table.settings.blocks));
+  if (table.has_correlation) parameters.set("xi", table.settings.signed_xi ? "signed" : "abs");
+  w.write_parameters(parameters);
   io::Parameters per_run;
   per_run.set("rows", "one row per RUN.h5, in command-line order");
   const std::size_t n = table.runs.size();
@@ -539,7 +547,8 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
       {"a4_f_prime_error", "1", "block-jackknife standard error of a4_f_prime"},
       {"mean_binary_force", "force", "<F_bc> over all contacts of the window (contact-weighted)"},
       {"sigma_anisotropy", "1",
-       "2theta amplitude of sigma(theta)/<sigma>: 2 sqrt(<|b| sin 2theta>^2 + <|b| cos 2theta>^2)/<|b|>"},
+       "2 sqrt(<|b| sin 2theta>^2 + <|b| cos 2theta>^2)/<|b|>, contact-weighted: it holds C(theta)'s own 2theta "
+       "anisotropy (sqrt(a_c^2 + a'_c^2) for a constant sigma); sigma_max_deviation measures sigma(theta) alone"},
       {"sigma_max_deviation", "1", "max over the angle bins of |sigma(theta_k)/<sigma> - 1| (/histograms/sigma)"},
       {"p_static", kStress, "static pressure p^s = (Sxx + Syy)/2 of stress_static, window mean of the rows"},
       {"p_static_error", kStress, "blocked standard error of p_static"},
