@@ -246,6 +246,16 @@ TEST_P(GfNetworkBadInput, FailsWithExitTwoOneLineNoOutput) {
     EXPECT_GE(H5Ldelete(f.get(), "/contacts", H5P_DEFAULT), 0);
     return path;
   }();
+  // Every contact made new (age 1): no long-lived contact anywhere.
+  static const std::string newborn = [&] {
+    const std::string path = dir / "newborn.h5";
+    std::filesystem::copy_file(run, path);
+    io::File f = io::open_file(path, true);
+    io::Dataset age = io::open_dataset(f.get(), "/contacts/age");
+    const std::vector<std::int64_t> ones(io::shape(age.get())[0], 1);
+    EXPECT_GE(H5Dwrite(age.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ones.data()), 0);
+    return path;
+  }();
   // Frames at steps 0 and 40 only, rows to step 50: no frame from strain 0.045 on.
   static const std::string cut = without_last_frame(sparse_run(), dir / "cut.h5");
   static const std::string truncated = [&] {
@@ -296,6 +306,7 @@ TEST_P(GfNetworkBadInput, FailsWithExitTwoOneLineNoOutput) {
                  {{"{run}", run},
                   {"{bare}", bare},
                   {"{cut}", cut},
+                  {"{newborn}", newborn},
                   {"{truncated}", truncated},
                   {"{text}", text},
                   {"{kinetic}", kinetic},
@@ -312,6 +323,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadInput{"no_contacts_stored", "{bare} -o {out} --from-strain 0", "no contacts stored"},
         BadInput{"no_frame_in_window", "{cut} -o {out} --from-strain 0.045", "no stored frame in the window"},
+        BadInput{"no_long_lived_contact", "{newborn} -o {out} --from-strain 0", "no long-lived contact"},
         BadInput{"a_packing", "{pack} -o {out}", "is a packing"},
         BadInput{"from_strain_past_the_end", "{run} -o {out} --from-strain 1", "past the end of the run"},
         BadInput{"missing_file", "{out}.missing -o {out}", "no such file"},
