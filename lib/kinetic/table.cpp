@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -11,8 +10,7 @@
 #include "core/progress.hpp"
 #include "io/analysis_writer.hpp"
 #include "kinetic/kinetic.hpp"
-#include "statistics/blocking.hpp"
-#include "statistics/steady.hpp"
+#include "shear/steady_window.hpp"
 
 namespace granflow::kinetic {
 
@@ -101,120 +99,19 @@ ChiValue ChiTable::at(double nu, bool extrapolate) const {
   return {chi, chi * rel};
 }
 
-// ---- Means and errors
-
-double mean(std::span<const double> x) {
-  if (x.empty()) return kNaN;
-  return std::accumulate(x.begin(), x.end(), 0.0) / double(x.size());
-}
-
-double mean_error(std::span<const double> x) {
-  if (x.size() >= kBlockingMinSamples) return blocking_error(x).error;
-  if (x.size() < 2) return kNaN;
-  const double m = mean(x);
-  double ss = 0;
-  for (double v : x) ss += (v - m) * (v - m);
-  return std::sqrt(ss / double(x.size() - 1) / double(x.size()));
-}
-
-double delta_error(const std::vector<std::pair<std::span<const double>, double>>& terms) {
-  if (terms.empty()) return kNaN;
-  const std::size_t n = terms.front().first.size();
-  std::vector<double> linear(n, 0.0);
-  for (const auto& [x, g] : terms) {
-    if (x.size() != n) throw std::invalid_argument("delta_error: series of different lengths");
-    for (std::size_t r = 0; r < n; ++r) linear[r] += g * x[r];
-  }
-  return mean_error(linear);
-}
-
 // ---- Reading a run
 
 namespace {
 
-struct Window {
-  std::size_t first_row = 0;
-  std::int64_t previous_step = 0;  // step of the row before the window (0 at the start)
-};
+using shear_run::observable;
+using shear_run::Opened;
+using shear_run::tensor;
+using shear_run::window_frames;
 
-struct Opened {
-  io::TrajectoryReader reader;
-  io::Parameters parameters{};
-  std::vector<double> strain{}, time{};
-  std::vector<std::int64_t> step{};
-  double rate = 0;
-};
+Opened open(const std::string& path) { return shear_run::open(path, "gf-kinetic"); }
 
-Opened open(const std::string& path) {
-  Opened o{io::TrajectoryReader(path)};
-  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
-  o.parameters = o.reader.parameters();
-  if (o.parameters.has("program") && o.parameters.get_string("program") == "gf-pack")
-    throw bad("is a packing (made by gf-pack), not a trajectory; run gf-shear on it first");
-  if (!o.reader.has_observable("strain")) throw bad("no /observables/strain: not a gf-shear trajectory");
-  if (!o.reader.box(0).periodic_y) throw bad("the box is open in y (an incline run); gf-kinetic needs a gf-shear run");
-  o.strain = o.reader.observable_scalar("strain");
-  o.time = o.reader.observable_time("strain");
-  o.step = o.reader.observable_step("strain");
-  if (o.strain.empty()) throw bad("no observable rows");
-  o.rate = o.reader.lees_edwards_rate();
-  return o;
-}
-
-// An observable's rows, checked: present and as long as /observables/strain.
-template <class Read>
-auto observable_rows(const Opened& o, const std::string& path, const char* name, Read read) {
-  if (!o.reader.has_observable(name))
-    throw UsageError("'" + path + "': no /observables/" + name + " (not a gf-shear trajectory of this version)");
-  auto x = read(name);
-  if (x.size() != o.strain.size())
-    throw UsageError("'" + path + "': /observables/" + name + " and /observables/strain differ in length");
-  return x;
-}
-
-std::vector<double> observable(const Opened& o, const std::string& path, const char* name) {
-  return observable_rows(o, path, name, [&](const char* n) { return o.reader.observable_scalar(n); });
-}
-
-std::vector<Mat2> tensor(const Opened& o, const std::string& path, const char* name) {
-  return observable_rows(o, path, name, [&](const char* n) { return o.reader.observable_tensor(n); });
-}
-
-Window window(const Opened& o, const std::string& path, const Settings& s) {
-  const std::size_t rows = o.strain.size();
-  std::size_t transient = 0;
-  if (s.detect_transient)
-    transient = mser_first_row({observable(o, path, "temperature"), observable(o, path, "pressure")});
-  std::size_t first = rows;
-  if (o.rate != 0) {
-    double from = s.from_strain;
-    if (transient < rows) from = std::max(from, std::fabs(o.strain[transient]));
-    // The tolerance absorbs the round-off of strain = γ̇·t at the row meant to start at it.
-    for (std::size_t r = 0; r < rows && first == rows; ++r)
-      if (std::fabs(o.strain[r]) >= from - 1e-9) first = r;
-    if (first == rows)
-      throw UsageError("'" + path + "': --from-strain " + number(from) +
-                       " is past the end of the run (last row at strain " + number(std::fabs(o.strain.back())) + ")");
-  } else {
-    double from = s.from_time >= 0 ? s.from_time : 0.5 * o.time.back();
-    if (transient < rows) from = std::max(from, o.time[transient]);
-    for (std::size_t r = 0; r < rows && first == rows; ++r)
-      if (o.time[r] >= from * (1 - 1e-12)) first = r;
-    if (first == rows)
-      throw UsageError("'" + path + "': --from-time " + number(from) +
-                       " is past the end of the run (last row at time " + number(o.time.back()) + ")");
-  }
-  if (rows - first < 2)
-    throw UsageError("'" + path + "': fewer than 2 observable rows in the window; start it earlier");
-  return {first, first > 0 ? o.step[first - 1] : 0};
-}
-
-std::vector<std::size_t> window_frames(const Opened& o, const Window& w) {
-  const std::vector<std::int64_t> steps = o.reader.frame_steps();
-  std::vector<std::size_t> frames;
-  for (std::size_t k = 0; k < steps.size(); ++k)
-    if (steps[k] > 0 && steps[k] > w.previous_step && steps[k] <= o.step.back()) frames.push_back(k);
-  return frames;
+shear_run::Window window(const Opened& o, const std::string& path, const Settings& s) {
+  return shear_run::window(o, path, {s.from_strain, s.from_time, s.detect_transient});
 }
 
 }  // namespace
@@ -230,7 +127,7 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
   auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
   if (need_frames && !o.reader.has_contacts())
     throw bad("no contacts stored (no /contacts group): not a gf-shear trajectory");
-  const Window w = window(o, path, settings);
+  const shear_run::Window w = window(o, path, settings);
   const io::Parameters& p = o.parameters;
 
   RunData run;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "io/trajectory.hpp"
+#include "statistics/delta.hpp"
 
 namespace granflow::kinetic {
 
@@ -64,15 +65,10 @@ class ChiTable {
 
 // ---- Window means and their errors ----
 
-// Standard error of the mean of x: blocking_error() with ≥ kBlockingMinSamples values, the
-// plain standard error with 2 to kBlockingMinSamples − 1, NaN with fewer.
-double mean_error(std::span<const double> x);
-
-// Error of f(x̄_1, x̄_2, ...) by the delta method: mean_error of Σ_k g_k·x_k, g_k = ∂f/∂x̄_k;
-// every series of the same length.
-double delta_error(const std::vector<std::pair<std::span<const double>, double>>& terms);
-
-double mean(std::span<const double> x);
+// statistics/delta.hpp: the delta method over window means, shared with gf-network.
+using statistics::delta_error;
+using statistics::mean;
+using statistics::mean_error;
 
 // ---- One trajectory read over its window ----
 

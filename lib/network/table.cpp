@@ -1,0 +1,634 @@
+#include "network/table.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/progress.hpp"
+#include "core/sha256.hpp"
+#include "io/analysis_writer.hpp"
+#include "io/hdf5_handle.hpp"
+#include "network/network.hpp"
+#include "statistics/delta.hpp"
+
+namespace granflow::network {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+using statistics::delta_error;
+using statistics::mean;
+using statistics::mean_error;
+
+// Every field of FrameSums: the per-frame series the window means are taken of.
+constexpr std::array kFields = {&FrameSums::grains,        &FrameSums::contacts,         &FrameSums::long_lived,
+                                &FrameSums::active_grains, &FrameSums::deflection_pairs, &FrameSums::sum_cos,
+                                &FrameSums::sum_cos_cos2,  &FrameSums::sum_sin2,         &FrameSums::sum_cos2,
+                                &FrameSums::sum_f,         &FrameSums::sum_f_sin2,       &FrameSums::sum_f_cos2,
+                                &FrameSums::sum_b,         &FrameSums::sum_b_sin2,       &FrameSums::sum_b_cos2,
+                                &FrameSums::sum_bf,        &FrameSums::sum_bf_sin2,      &FrameSums::sum_bf_cos2};
+
+// The frame quantities with an error, in the order evaluate() returns them: /runs names,
+// then /prediction names.
+const std::vector<std::string> kRunQuantities = {"coordination",
+                                                 "coordination_active",
+                                                 "mean_cos_deflection",
+                                                 "mean_cos_cos2_deflection",
+                                                 "Phi",
+                                                 "Psi",
+                                                 "phi_11",
+                                                 "phi_22",
+                                                 "phi_12",
+                                                 "chi_11",
+                                                 "chi_22",
+                                                 "chi_12",
+                                                 "a_c",
+                                                 "a_c_prime",
+                                                 "a_f",
+                                                 "a_f_prime",
+                                                 "shear_ratio_collisional_frames"};
+const std::vector<std::string> kPredictionQuantities = {
+    "rhs_pressure",        "rhs_shear",        "rhs_xx",        "rhs_pressure_floor", "rhs_shear_floor", "rhs_xx_floor",
+    "rhs_pressure_active", "rhs_shear_active", "rhs_xx_active", "rhs_pressure_unit",  "rhs_shear_unit",  "rhs_xx_unit"};
+
+std::vector<double> evaluate(const FrameSums& means, double xi) {
+  const Ingredients g = ingredients(means);
+  std::vector<double> out = {g.z,
+                             g.z_active,
+                             g.mean_cos,
+                             g.mean_cos_cos2,
+                             g.Phi,
+                             g.Psi,
+                             g.phi11,
+                             g.phi22,
+                             g.phi12,
+                             g.chi11,
+                             g.chi22,
+                             g.chi12,
+                             g.a_c,
+                             g.a_c_prime,
+                             g.a_f,
+                             g.a_f_prime,
+                             g.shear_ratio_collisional_frames};
+  auto add = [&](const Prediction& p) {
+    out.push_back(p.pressure);
+    out.push_back(p.shear);
+    out.push_back(p.xx);
+  };
+  add(predict(g.z, g.Phi, g.Psi, g.a_c, g.a_c_prime, g.a_f, g.a_f_prime, xi, SumLimit::continuation));
+  add(predict(g.z, g.Phi, g.Psi, g.a_c, g.a_c_prime, g.a_f, g.a_f_prime, xi, SumLimit::floor));
+  add(predict(g.z_active, g.Phi, g.Psi, g.a_c, g.a_c_prime, g.a_f, g.a_f_prime, xi, SumLimit::continuation));
+  add(predict(g.z, g.mean_cos, g.mean_cos_cos2, g.a_c, g.a_c_prime, g.a_f, g.a_f_prime, xi, SumLimit::continuation));
+  return out;
+}
+
+// Per-bin ratio a_k/b_k (NaN in an empty bin).
+std::vector<double> per_bin(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> out(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) out[k] = b[k] > 0 ? a[k] / b[k] : kNaN;
+  return out;
+}
+
+// The 4θ components of a histogram set: sin and cos of C(θ), then of F_bc(θ).
+std::array<double, 4> fourth_order(const Histograms& h) {
+  const Harmonic c = harmonic(h.angle_count, 4);
+  const Harmonic f = harmonic(per_bin(h.angle_force, h.angle_count), 4);
+  return {c.sin_coefficient, c.cos_coefficient, f.sin_coefficient, f.cos_coefficient};
+}
+
+Histograms minus(const Histograms& all, const Histograms& part) {
+  Histograms h = all;
+  auto sub = [](std::vector<double>& a, const std::vector<double>& b) {
+    for (std::size_t k = 0; k < a.size(); ++k) a[k] -= b[k];
+  };
+  sub(h.angle_count, part.angle_count);
+  sub(h.angle_force, part.angle_force);
+  sub(h.angle_branch, part.angle_branch);
+  sub(h.deflection_count, part.deflection_count);
+  return h;
+}
+
+// The stresses of the window's rows: p = (Σxx + Σyy)/2, s = −Σxy, Σxx.
+struct Stresses {
+  std::vector<double> p, s, xx;
+};
+
+Stresses stresses(const shear_run::Opened& o, const std::string& path, const char* name, std::size_t first) {
+  const std::vector<Mat2> t = shear_run::tensor(o, path, name);
+  Stresses out;
+  for (std::size_t r = first; r < t.size(); ++r) {
+    out.p.push_back(0.5 * (t[r](0, 0) + t[r](1, 1)));
+    out.s.push_back(-t[r](0, 1));
+    out.xx.push_back(t[r](0, 0));
+  }
+  return out;
+}
+
+RunRow run_row(const std::string& path, const TableSettings& settings, const XiValue& xi,
+               const std::function<void()>& frame_done) {
+  const shear_run::Opened o = shear_run::open(path, "gf-network");
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  if (!o.reader.has_contacts())
+    throw bad("no contacts stored (no /contacts group): gf-network needs its frames' contacts");
+  const shear_run::Window w = shear_run::window(o, path, settings.window);
+  const std::vector<std::size_t> frames = shear_run::window_frames(o, w);
+  if (frames.empty())
+    throw bad("no stored frame in the window (steps " + std::to_string(w.previous_step + 1) + " to " +
+              std::to_string(o.step.back()) +
+              "); store more frames (gf-shear --frame-every) or start the window earlier (--from-strain)");
+  const io::Parameters& p = o.parameters;
+  RunRow row;
+  row.input = path;
+  const std::size_t n = o.reader.grain_count();
+  row.grains = std::int32_t(n);
+  row.frames = std::int32_t(frames.size());
+  auto& r = row.runs;
+  r["packing_fraction"] = p.get_double("packing_fraction");
+  r["restitution"] = p.get_double("restitution");
+  r["friction"] = p.get_double("friction");
+  r["tangential_restitution"] = p.has("tangential-restitution") ? p.get_double("tangential-restitution") : kNaN;
+  r["rate"] = o.rate;
+  r["dt"] = p.get_double("dt");
+  r["first_strain"] = std::fabs(o.strain[w.first_row]);
+  r["last_strain"] = std::fabs(o.strain.back());
+
+  // Frames: per-frame sums, histograms pooled per contiguous block of frames.
+  const std::size_t blocks = std::min(settings.blocks, frames.size());
+  std::vector<Histograms> block(blocks, Histograms(settings.angle_bins, settings.deflection_bins));
+  std::vector<FrameSums> sums;
+  FrameAnalyser analyser;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const io::Frame frame = o.reader.frame(frames[k]);
+    if (!frame.has_contacts) throw bad("frame " + std::to_string(frames[k]) + " has no contacts stored");
+    try {
+      sums.push_back(analyser.analyse(frame.contacts, n, &block[k * blocks / frames.size()]));
+    } catch (const std::invalid_argument& e) {
+      throw bad("/contacts of frame " + std::to_string(frames[k]) + ": " + e.what());
+    }
+    if (frame_done) frame_done();
+  }
+  std::vector<std::vector<double>> series(kFields.size(), std::vector<double>(sums.size()));
+  FrameSums means;
+  for (std::size_t f = 0; f < kFields.size(); ++f) {
+    for (std::size_t k = 0; k < sums.size(); ++k) series[f][k] = sums[k].*kFields[f];
+    means.*kFields[f] = mean(series[f]);
+  }
+  if (!(means.contacts > 0)) throw bad("no contact in the window's " + std::to_string(frames.size()) + " frame(s)");
+  if (!(means.long_lived > 0))
+    throw bad("no long-lived contact (age >= 2) in the window's " + std::to_string(frames.size()) +
+              " frame(s): z, Phi and Psi are undefined");
+  r["contacts"] = means.contacts;
+  r["long_lived"] = means.long_lived;
+
+  // Window values and their errors: delta method, derivatives by central differences.
+  const double xi_ratio = xi.ratio;
+  const std::vector<double> value = evaluate(means, xi_ratio);
+  std::vector<std::vector<double>> linear(value.size(), std::vector<double>(sums.size(), 0.0));
+  for (std::size_t f = 0; f < kFields.size(); ++f) {
+    double scale = std::fabs(means.*kFields[f]);
+    if (scale == 0)
+      for (double x : series[f]) scale = std::max(scale, std::fabs(x));
+    if (scale == 0) continue;  // a series of zeros moves nothing
+    const double h = 1e-6 * scale;
+    FrameSums up = means, down = means;
+    up.*kFields[f] += h;
+    down.*kFields[f] -= h;
+    const std::vector<double> a = evaluate(up, xi_ratio), b = evaluate(down, xi_ratio);
+    for (std::size_t q = 0; q < value.size(); ++q) {
+      const double g = (a[q] - b[q]) / (2 * h);
+      for (std::size_t k = 0; k < sums.size(); ++k) linear[q][k] += g * series[f][k];
+    }
+  }
+  std::vector<double> error(value.size());
+  for (std::size_t q = 0; q < value.size(); ++q) error[q] = mean_error(linear[q]);
+  // The predictions' dependence on ξ/ξ_el, whose error is independent of the frames'.
+  if (std::isfinite(xi_ratio) && xi.error > 0) {
+    const double h = 1e-6 * std::max(std::fabs(xi_ratio), 1.0);
+    const std::vector<double> a = evaluate(means, xi_ratio + h), b = evaluate(means, xi_ratio - h);
+    for (std::size_t q = kRunQuantities.size(); q < value.size(); ++q)
+      error[q] = std::hypot(error[q], (a[q] - b[q]) / (2 * h) * xi.error);
+  }
+  for (std::size_t q = 0; q < kRunQuantities.size(); ++q) {
+    r[kRunQuantities[q]] = value[q];
+    r[kRunQuantities[q] + "_error"] = error[q];
+  }
+  auto& pr = row.prediction;
+  for (std::size_t q = 0; q < kPredictionQuantities.size(); ++q) {
+    pr[kPredictionQuantities[q]] = value[kRunQuantities.size() + q];
+    pr[kPredictionQuantities[q] + "_error"] = error[kRunQuantities.size() + q];
+  }
+  const Ingredients g = ingredients(means);
+  r["fabric_norm"] = g.fabric_norm;
+  r["a_f_first_order"] = g.a_f_first_order;
+  r["a_f_prime_first_order"] = g.a_f_prime_first_order;
+  r["mean_binary_force"] = g.mean_binary_force;
+  r["sigma_anisotropy"] = g.sigma_anisotropy;
+  pr["xi_ratio"] = xi.ratio;
+  pr["xi_ratio_error"] = xi.error;
+  row.xi_measurable = xi.measurable ? 1 : 0;
+  const double network_factor = std::min(g.Phi * (g.z - 1), 1.0), path_factor = g.Psi * (g.z - 1);
+  const double sum_limit = std::isfinite(xi_ratio) ? std::max(xi_ratio - 1, 0.0) : kNaN;
+  pr["network_factor"] = network_factor;
+  pr["path_factor"] = path_factor;
+  pr["sum_limit"] = sum_limit;
+  row.continuation_real = std::isfinite(xi_ratio) ? predict(g.z, g.Phi, g.Psi, g.a_c, g.a_c_prime, g.a_f, g.a_f_prime,
+                                                            xi_ratio, SumLimit::continuation)
+                                                        .continuation_real
+                                                  : 0;
+
+  // Histograms pooled over the window; the 4θ components with block-jackknife errors.
+  Histograms pooled(settings.angle_bins, settings.deflection_bins);
+  for (const Histograms& b : block) pooled.add(b);
+  const std::array<double, 4> fourth = fourth_order(pooled);
+  std::array<double, 4> fourth_error;
+  fourth_error.fill(kNaN);
+  if (blocks >= 2) {
+    std::vector<std::array<double, 4>> leave_out;
+    for (const Histograms& b : block) leave_out.push_back(fourth_order(minus(pooled, b)));
+    for (std::size_t c = 0; c < 4; ++c) {
+      double m = 0, ss = 0;
+      for (const auto& x : leave_out) m += x[c];
+      m /= double(blocks);
+      for (const auto& x : leave_out) ss += (x[c] - m) * (x[c] - m);
+      fourth_error[c] = std::sqrt(double(blocks - 1) / double(blocks) * ss);
+    }
+  }
+  const char* fourth_names[] = {"a4_c", "a4_c_prime", "a4_f", "a4_f_prime"};
+  for (std::size_t c = 0; c < 4; ++c) {
+    r[fourth_names[c]] = fourth[c];
+    r[std::string(fourth_names[c]) + "_error"] = fourth_error[c];
+  }
+  const std::size_t K = settings.angle_bins, D = settings.deflection_bins;
+  const double dtheta = std::numbers::pi / double(K), dx = std::numbers::pi / double(D);
+  double contacts = 0, branch = 0, pairs = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    contacts += pooled.angle_count[k];
+    branch += pooled.angle_branch[k];
+  }
+  for (double c : pooled.deflection_count) pairs += c;
+  const std::vector<double> force = per_bin(pooled.angle_force, pooled.angle_count);
+  const std::vector<double> length = per_bin(pooled.angle_branch, pooled.angle_count);
+  double force_average = 0;
+  for (double f : force) force_average += f / double(K);
+  const double mean_branch = branch / contacts;
+  double deviation = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    row.C.push_back(pooled.angle_count[k] / (contacts * 2 * dtheta));
+    row.binary_force.push_back(force[k] / force_average);
+    row.sigma.push_back(length[k] / mean_branch);
+    deviation = std::max(deviation, std::fabs(row.sigma.back() - 1));
+  }
+  r["sigma_max_deviation"] = deviation;
+  for (std::size_t k = 0; k < D; ++k)
+    row.P_C.push_back(pairs > 0 ? pooled.deflection_count[k] / (2 * pairs * dx) : kNaN);
+
+  // Left-hand sides from the window's observable rows.
+  const Stresses st = stresses(o, path, "stress_static", w.first_row);
+  const Stresses bc = stresses(o, path, "stress_collisional", w.first_row);
+  auto average = [&](const char* name, const std::vector<double>& x) {
+    r[name] = mean(x);
+    r[std::string(name) + "_error"] = mean_error(x);
+  };
+  average("p_static", st.p);
+  average("p_collisional", bc.p);
+  average("s_static", st.s);
+  average("s_collisional", bc.s);
+  average("sxx_static", st.xx);
+  average("sxx_collisional", bc.xx);
+  const double pbc = mean(bc.p);
+  // (a − b)/c of window means, and its delta-method error.
+  auto relative = [&](const std::vector<double>& a, const std::vector<double>& b, double& ratio, double& err) {
+    const double ma = mean(a), mb = mean(b);
+    ratio = (ma - mb) / pbc;
+    err = delta_error({{a, 1 / pbc}, {b, -1 / pbc}, {bc.p, -ratio / pbc}});
+  };
+  relative(st.p, bc.p, pr["lhs_pressure"], pr["lhs_pressure_error"]);
+  relative(st.s, bc.s, pr["lhs_shear"], pr["lhs_shear_error"]);
+  relative(st.xx, bc.xx, pr["lhs_xx"], pr["lhs_xx_error"]);
+  const double sbc = mean(bc.s);
+  r["shear_ratio_collisional"] = sbc / pbc;
+  r["shear_ratio_collisional_error"] = delta_error({{bc.s, 1 / pbc}, {bc.p, -sbc / (pbc * pbc)}});
+  return row;
+}
+
+double read_scalar(hid_t file, const std::string& name) {
+  io::Dataset d = io::open_dataset(file, name);
+  if (!io::shape(d.get()).empty()) throw io::Hdf5Error(io::where(d.get()) + ": expected a scalar");
+  double x = 0;
+  io::check(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &x), d.get(), "read");
+  return x;
+}
+
+}  // namespace
+
+std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs, bool signed_xi) {
+  auto bad = [&](const std::string& what) { return UsageError("'" + table + "': " + what); };
+  io::silence_hdf5_errors();
+#if H5_VERSION_GE(1, 12, 0)
+  const htri_t is_hdf5 = H5Fis_accessible(table.c_str(), H5P_DEFAULT);
+#else
+  const htri_t is_hdf5 = H5Fis_hdf5(table.c_str());
+#endif
+  if (is_hdf5 < 0) throw bad("cannot read: " + io::hdf5_reason());
+  if (is_hdf5 == 0) throw bad("not an HDF5 file");
+  try {
+    const io::File file = io::open_file(table, false);
+    const hid_t f = file.get();
+    auto attribute = [&](const std::string& name) -> std::string {
+      if (!io::exists(f, "/parameters")) return "";
+      const io::Group g = io::open_group(f, "/parameters");
+      if (!io::has_attribute(g.get(), name)) return "";
+      const io::Attribute a = io::open_attribute(g.get(), name);
+      if (io::attribute_class(a.get()) != H5T_STRING) return "";
+      return io::read_string_attribute(a.get());
+    };
+    if (attribute("program") != "gf-correlate")
+      throw bad("not a gf-correlate table (/parameters program is not gf-correlate); --correlation needs one");
+    const std::string ratio = signed_xi ? "/correlation/xi_ratio" : "/correlation/xi_abs_ratio";
+    const std::string el = signed_xi ? "/correlation/xi_el" : "/correlation/xi_abs_el";
+    for (const std::string& name : {ratio, ratio + "_error", el})
+      if (!io::exists(f, name))
+        throw bad("no " + name + ": made without --reference (gf-network needs xi_el to read xi/xi_el)");
+    const double xi_el = read_scalar(f, el);
+    if (!std::isfinite(xi_el))
+      throw bad(el + " is not finite: made without --reference (gf-network needs xi_el to read xi/xi_el)");
+    const std::vector<double> value = io::read_all<double>(io::open_dataset(f, ratio).get());
+    const std::vector<double> error = io::read_all<double>(io::open_dataset(f, ratio + "_error").get());
+    std::vector<std::int32_t> measurable;
+    if (!signed_xi) {
+      if (!io::exists(f, "/correlation/measurable")) throw bad("no /correlation/measurable: not a gf-correlate table");
+      measurable = io::read_all<std::int32_t>(io::open_dataset(f, "/correlation/measurable").get());
+    }
+    // The table's inputs: input, input_1, ... with their sha256, one /correlation row each.
+    std::vector<std::string> hashes;
+    for (std::size_t k = 0;; ++k) {
+      const std::string key = k == 0 ? "input_sha256" : "input_" + std::to_string(k) + "_sha256";
+      const std::string h = attribute(key);
+      if (h.empty()) break;
+      hashes.push_back(h);
+    }
+    if (hashes.empty() || hashes.size() != value.size() || error.size() != value.size() ||
+        (!signed_xi && measurable.size() != value.size()))
+      throw bad("its inputs (/parameters input_<k>_sha256) and " + ratio + " rows differ in number");
+    std::vector<XiValue> out;
+    for (const std::string& run : runs) {
+      const std::string h = sha256_file(run);
+      const auto it = std::find(hashes.begin(), hashes.end(), h);
+      if (it == hashes.end())
+        throw UsageError("'" + run + "': not among the runs of the correlation table '" + table +
+                         "' (no input with its sha256)");
+      const std::size_t k = std::size_t(it - hashes.begin());
+      out.push_back({value[k], error[k], signed_xi ? std::isfinite(value[k]) : measurable[k] != 0});
+    }
+    return out;
+  } catch (const io::Hdf5Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+Table analyse(const std::vector<std::string>& runs, const TableSettings& settings) {
+  if (runs.empty()) throw UsageError("no input trajectory");
+  Table table;
+  table.settings = settings;
+  table.has_correlation = !settings.correlation.empty();
+  std::vector<XiValue> xi(runs.size(), XiValue{kNaN, kNaN, false});
+  if (table.has_correlation) xi = read_correlation(settings.correlation, runs, settings.signed_xi);
+  // Every run's window is checked before any frame is read.
+  double total = 0, done = 0;
+  for (const auto& path : runs) {
+    const shear_run::Opened o = shear_run::open(path, "gf-network");
+    total += double(shear_run::window_frames(o, shear_run::window(o, path, settings.window)).size());
+  }
+  Progress bar("gf-network", total, settings.quiet);
+  std::string status;
+  auto frame_done = [&] { bar.update(++done, status); };
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    status = "run " + std::to_string(i + 1) + "/" + std::to_string(runs.size());
+    table.runs.push_back(run_row(runs[i], settings, xi[i], frame_done));
+  }
+  bar.finish();
+  return table;
+}
+
+// ---- Output
+
+namespace {
+
+struct Column {
+  std::string name;
+  const char* units;
+  std::string meaning;
+};
+
+const char* const kStress = "mass/time^2";
+
+std::vector<Column> run_columns() {
+  std::vector<Column> c = {
+      {"packing_fraction", "1", "packing fraction ν (the run's /parameters)"},
+      {"restitution", "1", "normal restitution e (the run's /parameters)"},
+      {"friction", "1", "Coulomb friction μ (the run's /parameters)"},
+      {"tangential_restitution", "1", "tangential restitution e_t (the run's /parameters; NaN if absent)"},
+      {"rate", "1/time", "shear rate γ̇ (the run's /lees_edwards rate)"},
+      {"dt", "time", "time step (the run's /parameters)"},
+      {"first_strain", "1", "shear strain of the first observable row of the window"},
+      {"last_strain", "1", "shear strain of the last observable row of the window"},
+      {"contacts", "1", "contacts (P_n > 0) per frame, window mean"},
+      {"long_lived", "1", "long-lived contacts (age >= 2: in contact in this step and the previous one) per frame"},
+      {"coordination", "1", "z = 2 long_lived / N over all grains (ratio of window means)"},
+      {"coordination_active", "1",
+       "z over the grains with at least one long-lived contact: 2 long_lived / those grains"},
+      {"mean_cos_deflection", "1",
+       "<cos x> over pairs of distinct long-lived contacts of one grain, cos x = -u_Im.u_IJ (straight chain: 1)"},
+      {"mean_cos_cos2_deflection", "1", "<cos x cos 2x> over the same pairs"},
+      {"Phi", "1", "Phi = 2 <cos x> (the thesis' normalisation, eq. 6.23)"},
+      {"Psi", "1", "Psi = 2 <cos x cos 2x> (eq. 6.23)"},
+      {"phi_11", "1", "fabric <n_x n_x> over all contacts"},
+      {"phi_22", "1", "fabric <n_y n_y> over all contacts"},
+      {"phi_12", "1", "fabric <n_x n_y> over all contacts"},
+      {"chi_11", "1", "force fabric <F_bc n_x n_x>/<F_bc> over all contacts (F_bc the stored binary_force)"},
+      {"chi_22", "1", "force fabric <F_bc n_y n_y>/<F_bc>"},
+      {"chi_12", "1", "force fabric <F_bc n_x n_y>/<F_bc>"},
+      {"a_c", "1", "a_c = 4 phi_12: sin 2theta amplitude of C(theta) (eq. 6.20; negative in granflow's shear)"},
+      {"a_c_prime", "1", "a'_c = 2 (phi_11 - phi_22): cos 2theta amplitude of C(theta)"},
+      {"a_f", "1", "a_f of F_bc(theta) (eq. 6.21), exact inversion of chi given a_c, a'_c"},
+      {"a_f_prime", "1", "a'_f of F_bc(theta), exact inversion"},
+      {"shear_ratio_collisional_frames", "1",
+       "s^bc/p^bc from the frames: -<|b| F_bc sin 2theta>/<|b| F_bc> (exact for the frames whatever sigma(theta))"}};
+  std::vector<Column> out;
+  for (const Column& col : c) {
+    out.push_back(col);
+    const std::string name = col.name;
+    static const std::vector<std::string> with_error = {"coordination",
+                                                        "coordination_active",
+                                                        "mean_cos_deflection",
+                                                        "mean_cos_cos2_deflection",
+                                                        "Phi",
+                                                        "Psi",
+                                                        "phi_11",
+                                                        "phi_22",
+                                                        "phi_12",
+                                                        "chi_11",
+                                                        "chi_22",
+                                                        "chi_12",
+                                                        "a_c",
+                                                        "a_c_prime",
+                                                        "a_f",
+                                                        "a_f_prime",
+                                                        "shear_ratio_collisional_frames"};
+    if (std::find(with_error.begin(), with_error.end(), name) != with_error.end())
+      out.push_back({name + "_error", col.units,
+                     "standard error of " + name + " (delta method over the frames, covariances included)"});
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_table(const std::string& path, const Table& table, const io::Parameters& provenance) {
+  io::AnalysisWriter w(path);
+  // The settings also under the names the readers of the table use (underscores).
+  io::Parameters parameters = provenance;
+  parameters.set("from_strain", table.settings.window.from_strain);
+  parameters.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
+  parameters.set("angle_bins", std::int64_t(table.settings.angle_bins));
+  parameters.set("deflection_bins", std::int64_t(table.settings.deflection_bins));
+  parameters.set("blocks", std::int64_t(table.settings.blocks));
+  if (table.has_correlation) parameters.set("xi", table.settings.signed_xi ? "signed" : "abs");
+  w.write_parameters(parameters);
+  io::Parameters per_run;
+  per_run.set("rows", "one row per RUN.h5, in command-line order");
+  const std::size_t n = table.runs.size();
+  const auto& runs = table.runs;
+  auto column = [&](const std::map<std::string, double> RunRow::*group, const std::string& name) {
+    std::vector<double> out;
+    for (const RunRow& r : runs) {
+      const auto it = (r.*group).find(name);
+      out.push_back(it == (r.*group).end() ? kNaN : it->second);
+    }
+    return out;
+  };
+  auto real = [&](const std::string& name, const char* units, const std::string& meaning) {
+    w.write("/runs/" + name, {n}, column(&RunRow::runs, name), meaning, units, per_run);
+  };
+  auto predicted = [&](const std::string& name, const char* units, const std::string& meaning) {
+    w.write("/prediction/" + name, {n}, column(&RunRow::prediction, name), meaning, units, per_run);
+  };
+  auto integers = [&](const std::string& path_name, std::int32_t RunRow::*member, const std::string& meaning) {
+    std::vector<std::int32_t> v;
+    for (const RunRow& r : runs) v.push_back(r.*member);
+    w.write(path_name, {n}, v, meaning, "1", per_run);
+  };
+
+  std::vector<std::string> inputs;
+  for (const RunRow& r : runs) inputs.push_back(r.input);
+  w.write("/runs/input", inputs, "path of the trajectory as given on the command line");
+  integers("/runs/grains", &RunRow::grains, "grains N");
+  integers("/runs/frames", &RunRow::frames, "stored frames in the window (those written by its steps)");
+  std::vector<Column> columns = run_columns();
+  // Names after the error columns, with their own meaning.
+  const std::vector<Column> more = {
+      {"fabric_norm", "1", "D = 1 + (a_c a_f + a'_c a'_f)/2 = <F_bc> contact-weighted / <F_bc> angle-averaged"},
+      {"a_f_first_order", "1", "first-order reading a_f = 4 chi_12 - a_c"},
+      {"a_f_prime_first_order", "1", "first-order reading a'_f = 2 (chi_11 - chi_22) - a'_c"},
+      {"a4_c", "1", "sin 4theta coefficient of C(theta)/<C> from the pooled histogram (bin-average corrected)"},
+      {"a4_c_error", "1", "block-jackknife standard error of a4_c (--blocks contiguous blocks of frames)"},
+      {"a4_c_prime", "1", "cos 4theta coefficient of C(theta)/<C>"},
+      {"a4_c_prime_error", "1", "block-jackknife standard error of a4_c_prime"},
+      {"a4_f", "1", "sin 4theta coefficient of F_bc(theta)/<F_bc> (per-bin mean binary force)"},
+      {"a4_f_error", "1", "block-jackknife standard error of a4_f"},
+      {"a4_f_prime", "1", "cos 4theta coefficient of F_bc(theta)/<F_bc>"},
+      {"a4_f_prime_error", "1", "block-jackknife standard error of a4_f_prime"},
+      {"mean_binary_force", "force", "<F_bc> over all contacts of the window (contact-weighted)"},
+      {"sigma_anisotropy", "1",
+       "2 sqrt(<|b| sin 2theta>^2 + <|b| cos 2theta>^2)/<|b|>, contact-weighted: it holds C(theta)'s own 2theta "
+       "anisotropy (sqrt(a_c^2 + a'_c^2) for a constant sigma); sigma_max_deviation measures sigma(theta) alone"},
+      {"sigma_max_deviation", "1", "max over the angle bins of |sigma(theta_k)/<sigma> - 1| (/histograms/sigma)"},
+      {"p_static", kStress, "static pressure p^s = (Sxx + Syy)/2 of stress_static, window mean of the rows"},
+      {"p_static_error", kStress, "blocked standard error of p_static"},
+      {"p_collisional", kStress, "collisional pressure p^bc of stress_collisional"},
+      {"p_collisional_error", kStress, "blocked standard error of p_collisional"},
+      {"s_static", kStress, "static shear stress s^s = -Sxy of stress_static (positive for rate > 0)"},
+      {"s_static_error", kStress, "blocked standard error of s_static"},
+      {"s_collisional", kStress, "collisional shear stress s^bc = -Sxy of stress_collisional"},
+      {"s_collisional_error", kStress, "blocked standard error of s_collisional"},
+      {"sxx_static", kStress, "Sxx of stress_static"},
+      {"sxx_static_error", kStress, "blocked standard error of sxx_static"},
+      {"sxx_collisional", kStress, "Sxx of stress_collisional"},
+      {"sxx_collisional_error", kStress, "blocked standard error of sxx_collisional"},
+      {"shear_ratio_collisional", "1", "s^bc/p^bc from the rows (= -2 chi_12 when sigma(theta) is constant)"},
+      {"shear_ratio_collisional_error", "1", "delta-method error of shear_ratio_collisional"}};
+  columns.insert(columns.end(), more.begin(), more.end());
+  for (const Column& c : columns) real(c.name, c.units, c.meaning);
+
+  // Histograms.
+  const std::size_t K = table.settings.angle_bins, D = table.settings.deflection_bins;
+  std::vector<double> theta(K), deflection(D);
+  for (std::size_t k = 0; k < K; ++k) theta[k] = (double(k) + 0.5) * std::numbers::pi / double(K);
+  for (std::size_t k = 0; k < D; ++k) deflection[k] = (double(k) + 0.5) * std::numbers::pi / double(D);
+  w.write("/histograms/theta", {K}, theta, "centre of the angle bin of the contact normal (theta folded into [0, pi))",
+          "radian");
+  w.write("/histograms/deflection", {D}, deflection, "centre of the |x| bin (deflection angle, [0, pi])", "radian");
+  auto matrix = [&](std::vector<double> RunRow::*member) {
+    std::vector<double> out;
+    for (const RunRow& r : runs) out.insert(out.end(), (r.*member).begin(), (r.*member).end());
+    return out;
+  };
+  w.write("/histograms/C", {n, K}, matrix(&RunRow::C),
+          "C(theta): contacts in the bin / (contacts * 2 dtheta), a density over 2 pi (1/(2 pi) if isotropic)",
+          "1/radian", per_run);
+  w.write("/histograms/binary_force", {n, K}, matrix(&RunRow::binary_force),
+          "F_bc(theta)/<F_bc>: per-bin mean binary force over its average over the bins (angle-averaged)", "1",
+          per_run);
+  w.write("/histograms/sigma", {n, K}, matrix(&RunRow::sigma),
+          "sigma(theta)/<sigma>: per-bin mean |branch| over the mean |branch| of all contacts", "1", per_run);
+  w.write("/histograms/P_C", {n, D}, matrix(&RunRow::P_C),
+          "P_C(x): pairs in the |x| bin / (2 pairs dx), a density over x in [-pi, pi] (integral 1)", "1/radian",
+          per_run);
+
+  // Prediction.
+  for (const char* side : {"pressure", "shear", "xx"}) {
+    const std::string s = side;
+    const char* what = s == "pressure" ? "(p^s - p^bc)/p^bc"
+                       : s == "shear"  ? "(s^s - s^bc)/p^bc"
+                                       : "(Sxx^s - Sxx^bc)/p^bc";
+    const char* eq = s == "pressure" ? "6.27" : s == "shear" ? "6.28" : "6.29";
+    predicted("lhs_" + s, "1",
+              std::string("measured ") + what + " from the window's rows (left side of eq. " + eq + ")");
+    predicted("lhs_" + s + "_error", "1", "delta-method error of lhs_" + s);
+    const std::pair<const char*, const char*> readings[] = {
+        {"", "z = coordination, Phi, Psi (thesis' normalisation), sums continued to the non-integer limit"},
+        {"_floor", "the main reading with the sums up to floor(xi/xi_el - 1)"},
+        {"_active", "z = coordination_active, otherwise the main reading"},
+        {"_unit", "Phi = mean_cos_deflection, Psi = mean_cos_cos2_deflection, otherwise the main reading"}};
+    for (const auto& [suffix, reading] : readings) {
+      const std::string name = "rhs_" + s + suffix;
+      predicted(name, "1", std::string("predicted ") + what + " (right side of eq. " + eq + "): " + reading);
+      predicted(name + "_error", "1",
+                "error of " + name + ": delta method over the frames plus d/d(xi/xi_el) times xi_ratio_error");
+    }
+  }
+  predicted("xi_ratio", "1",
+            table.settings.signed_xi ? "xi/xi_el of the correlation table (its xi_ratio)"
+                                     : "xi/xi_el of the correlation table (its xi_abs_ratio)");
+  predicted("xi_ratio_error", "1", "standard error of xi_ratio (the table's)");
+  integers("/prediction/xi_measurable", &RunRow::xi_measurable,
+           "1: the table marks the run's xi measurable (--xi abs: its measurable; signed: xi_ratio finite)");
+  predicted("sum_limit", "1", "L = max(xi/xi_el - 1, 0), the upper limit of the sums over links");
+  predicted("network_factor", "1", "M = min(Phi (z - 1), 1)");
+  predicted("path_factor", "1", "Q = Psi (z - 1)");
+  integers("/prediction/continuation_real", &RunRow::continuation_real,
+           "1: the continued sums are real; 0: a negative base with a non-integer limit (floor values used)");
+  io::Parameters group;
+  group.set("xi_source", !table.has_correlation ? "none" : table.settings.signed_xi ? "xi_ratio" : "xi_abs_ratio");
+  w.write_attributes("/prediction", group);
+  w.close();
+}
+
+}  // namespace granflow::network
