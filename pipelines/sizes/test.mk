@@ -47,6 +47,10 @@ CH6_EQ_STEPS         := 100
 CH6_EQ_FRAME_EVERY   := 20
 CH6_EQ_OBSERVE_EVERY := 1
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
+# Chapter 6, force-network model: one half-step run (the ν = 0.7, e = 0 run at half the step),
+# only to exercise the rule and the second table.
+CH6_HALFSTEP_NU      := 0.700
+CH6_HALFSTEP_E       := 0.00
 # Chapter 4, incline: a layer 12 diameters thick on a base 10 wide, 20 τ (the bulk table needs
 # a few layers of 3 diameters between the skipped base and surface).
 INCLINE_WIDTH           := 10

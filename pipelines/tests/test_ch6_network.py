@@ -334,3 +334,89 @@ class Ch6NetworkOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class Ch6NetworkMakeTest(unittest.TestCase):
+    """The make rules of the force-network tables, runs and figures (pipelines/ch6.mk) at
+    SIZE=test, read from `make -n` with every program's stamp present (nothing is run)."""
+
+    ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+    STAMPS = (
+        "gf-pack",
+        "gf-shear",
+        "gf-correlate",
+        "gf-incline",
+        "gf-kinetic",
+        "gf-network",
+        "libgranflow_statistics.so",
+    )
+
+    def plan(self, *variables):
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "build", "stamps"))
+            for prog in self.STAMPS:
+                with open(os.path.join(d, "build", "stamps", prog + ".stamp"), "w") as fh:
+                    fh.write("0\n")
+            res = subprocess.run(
+                synthetic.scratch_make(d, "-n") + list(variables) + ["quick-files"],
+                cwd=self.ROOT,
+                capture_output=True,
+                text=True,
+            )
+            self.assertEqual(res.returncode, 0, res.stderr)
+            return re.sub(r"[ \t]+", " ", res.stdout.replace(d, "TMP").replace("\\\n", " "))
+
+    def test_tables_runs_and_figures(self):
+        out = self.plan()
+        grid = " ".join(
+            f"TMP/runs/shear_nu{nu}_e{e}_mu0.00_r1e-02_s1.h5" for e in ("0.00", "0.92") for nu in ("0.500", "0.700")
+        )
+        self.assertIn(
+            "gf-network --quiet -o TMP/runs/ch6_network.h5 --correlation TMP/runs/ch5_correlate.h5 --from-strain 0.05 "
+            f"--detect-transient {grid}\n",
+            out,
+        )
+        pair, half = (f"TMP/runs/{k}_nu0.700_e0.00_mu0.00_r1e-02_s1.h5" for k in ("shear", "halfstep"))
+        self.assertIn(
+            "gf-network --quiet -o TMP/runs/ch6_network_halfstep.h5 --from-strain 0.05 --detect-transient "
+            f"{pair} {half}\n",
+            out,
+        )
+        # The half-step run is the default-step run of the same name at half the strain step with
+        # twice the steps between frames (the same strain per frame).
+        default = re.search(rf"^.*gf-shear .* -o {pair} .*$", out, re.M).group(0)
+        halved = re.search(rf"^.*gf-shear .* -o {half} .*$", out, re.M).group(0)
+        self.assertIn("--strain-step 1e-3 --frame-every 10", default)
+        self.assertEqual(
+            halved,
+            default.replace(pair, half).replace(
+                "--strain-step 1e-3 --frame-every 10", "--strain-step 0.0005 --frame-every $((2 * 10))"
+            ),
+        )
+        self.assertEqual(out.count(f"-o {half} "), 1)
+        self.assertIn(
+            "ch6_network.py --figure 6.5 --restitution 0.00 --nu 0.790 TMP/runs/ch6_network.h5 "
+            "TMP/figures/fig6_5.png",
+            out,
+        )
+        for k in (6, 8):
+            self.assertIn(f"ch6_network.py --figure 6.{k} TMP/runs/ch6_network.h5 TMP/figures/fig6_{k}.png", out)
+        self.assertIn(
+            "ch6_network.py --figure 6.7 --halfstep TMP/runs/ch6_network_halfstep.h5 "
+            "TMP/runs/ch6_network.h5 TMP/figures/fig6_7.png",
+            out,
+        )
+        self.assertRegex(
+            out,
+            r"report\.py .*--ch6-network TMP/runs/ch6_network\.h5 "
+            r"--ch6-network-halfstep TMP/runs/ch6_network_halfstep\.h5",
+        )
+        # The kinetic figures keep their own rule.
+        self.assertIn("ch6_kinetic.py --restitutions 0.92 0.75", out)
+        self.assertNotIn("ch6_kinetic.py --restitutions  ", out)
+
+    def test_without_half_step_runs(self):
+        out = self.plan("CH6_HALFSTEP_NU=")
+        self.assertNotIn("halfstep", out)
+        self.assertIn("ch6_network.py --figure 6.7 TMP/runs/ch6_network.h5 TMP/figures/fig6_7.png", out)
+        self.assertRegex(out, r"report\.py .*--ch6-network TMP/runs/ch6_network\.h5 ")
