@@ -77,7 +77,7 @@ REPORT_ARGS += --ch6-kinetic $(CH6_TABLE)
 # ---------------------------------------------------------------- force-network model
 # Thesis §6.2, Figs 6.5-6.8. Table $(RUNS)/ch6_network.h5: gf-network over the μ = 0 runs of the
 # chapter-5 grid (CH5_NU × CH5_E at CH5_RATE: rows of $(RUNS)/ch5_correlate.h5, whose ξ/ξ_el
-# gives the sums' limit, --correlation), the window rule of the other chapter-6 table
+# gives the sums' limit, --correlation CH6_NETWORK_CORRELATION), the window rule of the other chapter-6 table
 # (--from-strain CH6_FROM_STRAIN --detect-transient). Fig. 6.7's inset compares z at the default
 # step and at half of it: half-step runs $(RUNS)/halfstep_nu<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>.h5 (the
 # shear run of the same name at SHEAR_STRAIN_STEP/2, twice the steps and twice the steps between
@@ -93,6 +93,8 @@ CH6_POLAR_E        ?= 0.00
 CH6_POLAR_NU       ?= 0.790
 # gf-network's settings beyond its defaults (e.g. --angle-bins 72).
 CH6_NETWORK_ARGS   ?=
+# The gf-correlate table whose ξ/ξ_el gives the sums' limit (empty: none, no right-hand sides).
+CH6_NETWORK_CORRELATION ?= $(RUNS)/ch5_correlate.h5
 CH6_NETWORK_RUNS   := $(foreach e,$(CH5_E),$(foreach nu,$(CH5_NU),\
                         $(call shear_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED))))
 CH6_NETWORK_TABLE  := $(RUNS)/ch6_network.h5
@@ -119,9 +121,9 @@ $(RUNS)/halfstep_nu%.h5: $(RUNS)/pack_nu$$(call shear_arg,,1,$$*)_$$(call shear_
 	  --strain-step $(CH6_HALFSTEP_STRAIN_STEP) \
 	  --frame-every $$((2 * $(call shear_frame_every,$(call shear_arg,,1,$*))))
 
-$(CH6_NETWORK_TABLE): $(CH6_NETWORK_RUNS) $(RUNS)/ch5_correlate.h5 $(STAMPS)/gf-network.stamp \
+$(CH6_NETWORK_TABLE): $(CH6_NETWORK_RUNS) $(CH6_NETWORK_CORRELATION) $(STAMPS)/gf-network.stamp \
                       pipelines/sizes/$(SIZE).mk | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --correlation $(RUNS)/ch5_correlate.h5 \
+	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ $(if $(CH6_NETWORK_CORRELATION),--correlation $(CH6_NETWORK_CORRELATION)) \
 	  --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_NETWORK_ARGS) $(CH6_NETWORK_RUNS)
 $(RUNS)/ch6_network_halfstep.h5: $(CH6_HALFSTEP_PAIRS) $(CH6_HALFSTEP_RUNS) $(STAMPS)/gf-network.stamp \
                                  pipelines/sizes/$(SIZE).mk | $(RUNS)/
