@@ -76,7 +76,7 @@ REPORT_ARGS += --ch6-kinetic $(CH6_TABLE)
 
 # ---------------------------------------------------------------- force-network model
 # Thesis §6.2, Figs 6.5-6.8. Table $(RUNS)/ch6_network.h5: gf-network over the μ = 0 runs of the
-# chapter-5 grid (CH5_NU × CH5_E at CH5_RATE: rows of $(RUNS)/ch5_correlate.h5, whose ξ/ξ_el
+# chapter-5 grid (CH6_NETWORK_NU × CH6_NETWORK_E, by default CH5_NU × CH5_E, at CH5_RATE: rows of $(RUNS)/ch5_correlate.h5, whose ξ/ξ_el
 # gives the sums' limit, --correlation CH6_NETWORK_CORRELATION), the window rule of the other chapter-6 table
 # (--from-strain CH6_FROM_STRAIN --detect-transient). Fig. 6.7's inset compares z at the default
 # step and at half of it: half-step runs $(RUNS)/halfstep_nu<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>.h5 (the
@@ -95,7 +95,10 @@ CH6_POLAR_NU       ?= 0.790
 CH6_NETWORK_ARGS   ?=
 # The gf-correlate table whose ξ/ξ_el gives the sums' limit (empty: none, no right-hand sides).
 CH6_NETWORK_CORRELATION ?= $(RUNS)/ch5_correlate.h5
-CH6_NETWORK_RUNS   := $(foreach e,$(CH5_E),$(foreach nu,$(CH5_NU),\
+# The grid of the force-network table: the chapter-5 μ = 0 grid unless a size narrows it.
+CH6_NETWORK_NU     ?= $(CH5_NU)
+CH6_NETWORK_E      ?= $(CH5_E)
+CH6_NETWORK_RUNS   := $(foreach e,$(CH6_NETWORK_E),$(foreach nu,$(CH6_NETWORK_NU),\
                         $(call shear_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED))))
 CH6_NETWORK_TABLE  := $(RUNS)/ch6_network.h5
 halfstep_run        = $(RUNS)/halfstep_nu$(1)_e$(2)_mu$(3)_r$(4)_s$(5).h5

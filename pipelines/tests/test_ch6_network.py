@@ -369,7 +369,9 @@ class Ch6NetworkMakeTest(unittest.TestCase):
     def test_tables_runs_and_figures(self):
         # test.mk makes the table without a correlation table (64 grains: no finite ξ_el); the
         # other sizes read the chapter-5 table.
-        out = self.plan("CH6_NETWORK_CORRELATION=$(RUNS)/ch5_correlate.h5")
+        out = self.plan(
+            "CH6_NETWORK_CORRELATION=$(RUNS)/ch5_correlate.h5", "CH6_NETWORK_NU=$(CH5_NU)", "CH6_NETWORK_E=$(CH5_E)"
+        )
         grid = " ".join(
             f"TMP/runs/shear_nu{nu}_e{e}_mu0.00_r1e-02_s1.h5" for e in ("0.00", "0.92") for nu in ("0.500", "0.700")
         )
@@ -423,7 +425,12 @@ class Ch6NetworkMakeTest(unittest.TestCase):
         self.assertIn("ch6_network.py --figure 6.7 TMP/runs/ch6_network.h5 TMP/figures/fig6_7.png", out)
         self.assertRegex(out, r"report\.py .*--ch6-network TMP/runs/ch6_network\.h5 ")
 
-    def test_without_correlation_table(self):
+    def test_test_size_grid(self):
+        # test.mk: no correlation table, only the run with long-lived contacts.
         out = self.plan()
-        self.assertIn("gf-network --quiet -o TMP/runs/ch6_network.h5 --from-strain 0.05 --detect-transient ", out)
+        self.assertIn(
+            "gf-network --quiet -o TMP/runs/ch6_network.h5 --from-strain 0.05 --detect-transient "
+            "TMP/runs/shear_nu0.700_e0.00_mu0.00_r1e-02_s1.h5\n",
+            out,
+        )
         self.assertNotIn("--correlation", out)
