@@ -962,11 +962,13 @@ def ch6_network_section(network_path, halfstep_path=None):
             f"{nt.fmt_number(c['scatter'])} | {c['used']} | {c['non_positive']} | {c['missing']} | "
             f"{nt.fmt_number(c['decades_rhs'], 2)} ({nt.fmt_number(c['decades_lhs'], 2)}) |"
         )
+    # Only a run with a sum limit can lack a real continuation.
     real = nt.column(table, "continuation_real", "prediction")
+    limited = np.isfinite(nt.column(table, "sum_limit", "prediction"))
     lines += [
         "",
-        f"{int(np.sum(real == 0))} of {n} runs have a negative base with a non-integer ξ/ξ_el − 1 (no real "
-        "continuation of the sums: their main reading is the floor one).",
+        f"{int(np.sum(limited & (real == 0)))} of {int(np.sum(limited))} runs with a ξ/ξ_el have a negative base "
+        "with a non-integer ξ/ξ_el − 1 (no real continuation of the sums: their main reading is the floor one).",
     ]
     # σ(θ) and the identity s^bc/p^bc = −2χ12.
     ratio, ratio_err, target, target_err, sig = nt.identity_deviation(table)

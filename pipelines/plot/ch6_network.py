@@ -78,10 +78,16 @@ def figure_6_5(table, args):
         ),
     )
     for ax, (data, fit, title, text) in zip(axes, panels):
-        ax.plot(full, np.concatenate([data, data]), "o", ms=3, color="C0", label="measured (histogram)")
-        ax.plot(fine, fit, "-", color="C3", lw=1.2, label="first order, eqs. 6.20–6.21")
+        # A θ bin without contacts has no mean force (NaN): it is left out, as is a fit whose
+        # components were not measured.
+        data = np.concatenate([data, data])
+        shown = np.isfinite(data)
+        ax.plot(full[shown], data[shown], "o", ms=3, color="C0", label="measured (histogram)")
+        if np.isfinite(fit).all():
+            ax.plot(fine, fit, "-", color="C3", lw=1.2, label="first order, eqs. 6.20–6.21")
         ax.set_title(title + "\n" + text, fontsize=9)
-        ax.set_ylim(0, 1.15 * max(np.nanmax(data), np.nanmax(fit)))
+        top = np.concatenate([data[shown], fit[np.isfinite(fit)]])
+        ax.set_ylim(0, 1.15 * top.max() if len(top) and top.max() > 0 else 1)
         ax.tick_params(labelsize=7)
     axes[1].legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.7, -0.12))
     nu, e = nt.column(table, "packing_fraction")[row], nt.column(table, "restitution")[row]
