@@ -32,6 +32,12 @@ def colours(table):
     return {e: f"C{k}" for k, e in enumerate(nt.restitutions(table))}
 
 
+def legend(ax, **kwargs):
+    """A legend if the panel has labelled artists (a table whose values are all NaN has none)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kwargs)
+
+
 def series(ax, table, name, colour, e, marker="o", filled=True, label=None, ms=4):
     """One quantity of /runs against ν at restitution e, with its error bars."""
     rows = nt.select(table, e)
@@ -89,7 +95,7 @@ def figure_6_5(table, args):
         top = np.concatenate([data[shown], fit[np.isfinite(fit)]])
         ax.set_ylim(0, 1.15 * top.max() if len(top) and top.max() > 0 else 1)
         ax.tick_params(labelsize=7)
-    axes[1].legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.7, -0.12))
+    legend(axes[1], fontsize=7, loc="lower left", bbox_to_anchor=(0.7, -0.12))
     nu, e = nt.column(table, "packing_fraction")[row], nt.column(table, "restitution")[row]
     fig.suptitle(
         f"Thesis Fig. 6.5: e = {e:g}, ν = {nu:.3f} (the run nearest to e = {args.restitution:g}, ν = {args.nu:g});\n"
@@ -110,7 +116,7 @@ def figure_6_6(table, args):
         ax.axhline(0, color="k", lw=0.5)
         ax.set_xlabel("packing fraction ν")
         ax.set_ylabel(label)
-    axes[0, 0].legend(fontsize=7)
+    legend(axes[0, 0], fontsize=7)
     for ax, (names, what) in zip(
         axes[:, 2], ((("a4_c", "a4_c_prime"), "C(θ)"), (("a4_f", "a4_f_prime"), r"$F_{bc}(\theta)$"))
     ):
@@ -158,8 +164,8 @@ def figure_6_7(table, args):
     for ax, title in ((left, "(a)"), (right, "(b)")):
         ax.set_xlabel("packing fraction ν")
         ax.set_title(title, loc="left")
-    left.legend(fontsize=7, loc="lower right")
-    right.legend(fontsize=7, loc="lower left")
+    legend(left, fontsize=7, loc="lower right")
+    legend(right, fontsize=7, loc="lower left")
     # z grows with ν: the upper left of panel (a) is where the inset hides the fewest points.
     inset = left.inset_axes([0.09, 0.58, 0.38, 0.34])
     pairs = []
@@ -239,7 +245,7 @@ def figure_6_8(table, args):
             for name, s in counts
         )
         ax.set_title(f"({letter}) eq. {number}\n{note}", fontsize=7)
-        ax.legend(fontsize=7, loc="upper left")
+        legend(ax, fontsize=7, loc="upper left")
     fig.suptitle(
         "Thesis Fig. 6.8: measured left-hand sides against the force-network prediction (no fit); "
         "filled: sums continued to ξ/ξ_el − 1, open: sums up to ⌊ξ/ξ_el − 1⌋",
