@@ -66,9 +66,79 @@ $(CH6_TABLE): $(CH6_RUNS) $(CH6_EQ_RUNS) $(STAMPS)/gf-kinetic.stamp pipelines/si
 	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --equilibrium $(subst $(space),$(comma),$(strip $(CH6_EQ_RUNS))) \
 	  --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_KINETIC_ARGS) $(CH6_RUNS)
 
-$(FIGURES)/fig6_%.png: $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 pipelines/plot/ch6_kinetic.py $(CH6_ANALYSIS) | $(FIGURES)/
+$(foreach k,1 2 3,$(FIGURES)/fig6_$(k).png): $(FIGURES)/fig6_%.png: $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 \
+                                            pipelines/plot/ch6_kinetic.py $(CH6_ANALYSIS) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch6_kinetic.py --restitutions $(CH6_PAIR_$*) $(CH6_TABLE) $(RUNS)/ch5_correlate.h5 $@
 
 # The report's chapter-6 section (it reads ξ/ξ_el from the chapter-5 table, which ch5.mk adds).
 $(FIGURES)/REPORT.md: $(CH6_TABLE) $(CH6_ANALYSIS)
 REPORT_ARGS += --ch6-kinetic $(CH6_TABLE)
+
+# ---------------------------------------------------------------- force-network model
+# Thesis §6.2, Figs 6.5-6.8. Table $(RUNS)/ch6_network.h5: gf-network over the μ = 0 runs of the
+# chapter-5 grid (CH6_NETWORK_NU × CH6_NETWORK_E, by default CH5_NU × CH5_E, at CH5_RATE: rows of $(RUNS)/ch5_correlate.h5, whose ξ/ξ_el
+# gives the sums' limit, --correlation CH6_NETWORK_CORRELATION), the window rule of the other chapter-6 table
+# (--from-strain CH6_FROM_STRAIN --detect-transient). Fig. 6.7's inset compares z at the default
+# step and at half of it: half-step runs $(RUNS)/halfstep_nu<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>.h5 (the
+# shear run of the same name at SHEAR_STRAIN_STEP/2, twice the steps and twice the steps between
+# frames: the same strain and strain per frame) at CH6_HALFSTEP_NU × CH6_HALFSTEP_E, and a second
+# table $(RUNS)/ch6_network_halfstep.h5 of them and their default-step runs, without
+# --correlation (the half-step runs are no rows of ch5_correlate.h5). Figures
+# $(FIGURES)/fig6_{5,6,7,8}.png: pipelines/plot/ch6_network.py. A change of gf-network's code
+# redoes the two tables, these figures and the report only.
+CH6_HALFSTEP_NU    ?=
+CH6_HALFSTEP_E     ?=
+# Fig. 6.5's run: the one nearest to this e and ν (the thesis': e = 0, ν = 0.79).
+CH6_POLAR_E        ?= 0.00
+CH6_POLAR_NU       ?= 0.790
+# gf-network's settings beyond its defaults (e.g. --angle-bins 72).
+CH6_NETWORK_ARGS   ?=
+# The gf-correlate table whose ξ/ξ_el gives the sums' limit (empty: none, no right-hand sides).
+CH6_NETWORK_CORRELATION ?= $(RUNS)/ch5_correlate.h5
+# The grid of the force-network table: the chapter-5 μ = 0 grid unless a size narrows it.
+CH6_NETWORK_NU     ?= $(CH5_NU)
+CH6_NETWORK_E      ?= $(CH5_E)
+CH6_NETWORK_RUNS   := $(foreach e,$(CH6_NETWORK_E),$(foreach nu,$(CH6_NETWORK_NU),\
+                        $(call shear_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED))))
+CH6_NETWORK_TABLE  := $(RUNS)/ch6_network.h5
+halfstep_run        = $(RUNS)/halfstep_nu$(1)_e$(2)_mu$(3)_r$(4)_s$(5).h5
+CH6_HALFSTEP_RUNS  := $(foreach e,$(CH6_HALFSTEP_E),$(foreach nu,$(CH6_HALFSTEP_NU),\
+                        $(call halfstep_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED))))
+CH6_HALFSTEP_PAIRS := $(foreach e,$(CH6_HALFSTEP_E),$(foreach nu,$(CH6_HALFSTEP_NU),\
+                        $(call shear_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED))))
+# No half-step runs (empty CH6_HALFSTEP_NU or _E): no second table, Fig. 6.7 without its inset.
+CH6_NETWORK_HALFSTEP := $(if $(strip $(CH6_HALFSTEP_RUNS)),$(RUNS)/ch6_network_halfstep.h5)
+CH6_HALFSTEP_STRAIN_STEP := $(shell awk 'BEGIN { printf "%.15g", $(SHEAR_STRAIN_STEP) / 2 }')
+CH6_NETWORK_FIGURES := $(foreach k,5 6 7 8,$(FIGURES)/fig6_$(k).png)
+CH6_FIGURES        += $(CH6_NETWORK_FIGURES)
+CH6_NETWORK_PLOT   := pipelines/plot/ch6_network.py $(CH6_ANALYSIS)
+
+ch6-files: $(CH6_NETWORK_FIGURES) $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP)
+
+# Stem "<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>", as for the shear runs (shear_arg in ch4.mk).
+$(RUNS)/halfstep_nu%.h5: $(RUNS)/pack_nu$$(call shear_arg,,1,$$*)_$$(call shear_arg,,5,$$*).h5 \
+                         $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
+	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
+	  --seed $(call shear_arg,s,5,$*) --strain $(call shear_strain,$(call shear_arg,,1,$*)) \
+	  --strain-step $(CH6_HALFSTEP_STRAIN_STEP) \
+	  --frame-every $$((2 * $(call shear_frame_every,$(call shear_arg,,1,$*))))
+
+$(CH6_NETWORK_TABLE): $(CH6_NETWORK_RUNS) $(CH6_NETWORK_CORRELATION) $(STAMPS)/gf-network.stamp \
+                      pipelines/sizes/$(SIZE).mk | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ $(if $(CH6_NETWORK_CORRELATION),--correlation $(CH6_NETWORK_CORRELATION)) \
+	  --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_NETWORK_ARGS) $(CH6_NETWORK_RUNS)
+$(RUNS)/ch6_network_halfstep.h5: $(CH6_HALFSTEP_PAIRS) $(CH6_HALFSTEP_RUNS) $(STAMPS)/gf-network.stamp \
+                                 pipelines/sizes/$(SIZE).mk | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --from-strain $(CH6_FROM_STRAIN) --detect-transient \
+	  $(CH6_NETWORK_ARGS) $(CH6_HALFSTEP_PAIRS) $(CH6_HALFSTEP_RUNS)
+
+$(FIGURES)/fig6_5.png: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_PLOT) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_network.py --figure 6.5 --restitution $(CH6_POLAR_E) --nu $(CH6_POLAR_NU) $< $@
+$(FIGURES)/fig6_6.png $(FIGURES)/fig6_8.png: $(FIGURES)/fig6_%.png: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_PLOT) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_network.py --figure 6.$* $< $@
+$(FIGURES)/fig6_7.png: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP) $(CH6_NETWORK_PLOT) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_network.py --figure 6.7 $(if $(CH6_NETWORK_HALFSTEP),--halfstep $(CH6_NETWORK_HALFSTEP)) $< $@
+
+$(FIGURES)/REPORT.md: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP)
+REPORT_ARGS += --ch6-network $(CH6_NETWORK_TABLE) $(if $(CH6_NETWORK_HALFSTEP),--ch6-network-halfstep $(CH6_NETWORK_HALFSTEP))

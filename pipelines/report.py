@@ -13,6 +13,7 @@ from analysis import incline_bulk as ib
 from analysis import steady_state as ss
 from granflow_py import correlation_table as ct
 from granflow_py import kinetic_table as kt
+from granflow_py import network_table as nt
 from granflow_py.outputs import atomic_output
 
 
@@ -826,6 +827,174 @@ def ch6_section(kinetic_path, correlate_path):
     return lines
 
 
+def ch6_network_section(network_path, halfstep_path=None):
+    """Chapter 6, the force-network model (thesis §6.2, Figs 6.5–6.8): gf-network's Φ, Ψ, z,
+    Fourier components and both sides of eqs. 6.27–6.29 beside the thesis' statements (every
+    number from the tables; "not measured" where a dataset is NaN)."""
+    table = nt.read_table(network_path)
+    n = nt.rows(table)
+    nu, e = nt.column(table, "packing_fraction"), nt.column(table, "restitution")
+    where = lambda r: f"ν = {nu[r]:.3f}, e = {e[r]:g}"  # noqa: E731
+    xi_source = table["prediction"]["attrs"].get("xi_source", "correlation")
+    lines = [
+        "",
+        "## Chapter 6: the force-network model (thesis §6.2, Figs 6.5–6.8)",
+        "",
+        f"Table `{network_path}` (gf-network, one row per run): {n} runs, N = {int(np.max(table['runs']['grains']))}; "
+        "z counts long-lived contacts (in contact with an impulse in this step and the previous one) over all "
+        "grains, Φ and Ψ are twice the means of cos x and cos x cos 2x over pairs of long-lived contacts of one "
+        "grain (eq. 6.23's normalisation). ξ/ξ_el: "
+        + (
+            "none (the table was made without --correlation: no right-hand sides)."
+            if xi_source == "none"
+            else f"gf-correlate's table, {int(np.sum(nt.column(table, 'xi_measurable', 'prediction') > 0))} of {n} "
+            "runs with a measurable ξ."
+        )
+        + f" “Agree within errors”: |a − b| ≤ {nt.AGREE_SIGMAS:g} combined standard errors.",
+        "",
+    ]
+    # Φ and Ψ.
+    phi, phi_err = nt.column(table, "Phi"), nt.column(table, "Phi_error")
+    lo, hi = nt.value_range(phi)
+    below, finite, exceptions = nt.psi_below_phi(table)
+    lines += [
+        quote(
+            "Although z and Ψ depend sensitively on the value of ν and e , the value of Φ is always "
+            "approximately 0.83.",
+            "953",
+        ),
+        quote("We observe that $\\Psi < \\Phi$ for all granular materials we have considered.", "955"),
+    ]
+    if finite:
+        rlo, rhi = int(np.nanargmin(phi)), int(np.nanargmax(phi))
+        lines.append(
+            f"Ours: Φ from {nt.fmt_pm(phi[rlo], phi_err[rlo])} ({where(rlo)}) to {nt.fmt_pm(phi[rhi], phi_err[rhi])} "
+            f"({where(rhi)}) over {finite} runs (range {lo:.3f}–{hi:.3f}, thesis ≈ {nt.THESIS_PHI:g}); "
+            f"Ψ < Φ in {below} of {finite} runs"
+            + (f" (not at {'; '.join(where(r) for r in exceptions)})." if len(exceptions) else ".")
+        )
+    else:
+        lines.append("Ours: Φ and Ψ not measured (no run with pairs of long-lived contacts).")
+    # The next Fourier order.
+    lines += [
+        "",
+        quote(
+            "The size of the components is always of order 10^{-1} whereas the magnitude of the next order "
+            "coefficients in the Fourier Series is less than 10^{-2} .",
+            "910",
+        ),
+    ]
+    parts = []
+    for names, what in ((("a4_c", "a4_c_prime"), "C(θ)"), (("a4_f", "a4_f_prime"), "F_bc(θ)")):
+        value, error, name, row = nt.largest_abs(table, names)
+        large, counted = nt.count_at_least(table, names, nt.THESIS_NEXT_ORDER)
+        if name is None:
+            parts.append(f"the 4θ components of {what} not measured")
+        else:
+            parts.append(
+                f"the largest 4θ component of {what} is {name} = {nt.fmt_pm(value, error)} ({where(row)}); "
+                f"{large} of {counted} runs have a 4θ component of {what} with |value| ≥ {nt.THESIS_NEXT_ORDER:g}"
+            )
+    first_order = nt.largest_abs(table, ("a_c", "a_c_prime", "a_f", "a_f_prime"))
+    lines.append(
+        "Ours: "
+        + "; ".join(parts)
+        + ". The largest first-order component: "
+        + (
+            f"{first_order[2]} = {nt.fmt_pm(first_order[0], first_order[1])} ({where(first_order[3])})."
+            if first_order[2]
+            else "not measured."
+        )
+    )
+    # z at two time steps.
+    lines += ["", quote("This measurement of z does not depend on the time step, as is shown in the inset.", "955")]
+    if halfstep_path:
+        half = nt.read_table(halfstep_path)
+        pairs = nt.step_pairs(half)
+        if pairs:
+            z, dz = nt.column(half, "coordination"), nt.column(half, "coordination_error")
+            hnu, he = nt.column(half, "packing_fraction"), nt.column(half, "restitution")
+            lines += ["| ν | e | z (default step) | z (half step) | difference |", "|---|---|---|---|---|"]
+            diffs = []
+            for i, j in pairs:
+                d = float(nt.difference_sigmas(z[j], dz[j], z[i], dz[i]))
+                diffs.append(d)
+                lines.append(
+                    f"| {hnu[i]:.3f} | {he[i]:g} | {nt.fmt_pm(z[i], dz[i])} | {nt.fmt_pm(z[j], dz[j])} | "
+                    f"{nt.fmt_sigmas(d)} |"
+                )
+            k = nt.largest_finite(diffs)
+            agree = sum(1 for d in diffs if np.isfinite(d) and abs(d) <= nt.AGREE_SIGMAS)
+            lines += [
+                "",
+                f"Ours (`{halfstep_path}`): {len(pairs)} pairs of runs at the default step and half of it; the largest "
+                "difference of z (half − default) is "
+                + (
+                    f"{nt.fmt_sigmas(diffs[k])} (ν = {hnu[pairs[k][0]]:.3f}, e = {he[pairs[k][0]]:g})"
+                    if k is not None
+                    else "not measured"
+                )
+                + f"; z agrees within errors in {agree} of {len(pairs)} pairs.",
+            ]
+        else:
+            lines.append(f"Ours: `{halfstep_path}` has no pair of runs with equal ν, e and dt ratio 2: not measured.")
+    else:
+        lines.append("Ours: no half-step runs: not measured.")
+    # Fig. 6.8's collapse.
+    lines += [
+        "",
+        quote(
+            "Plotted in this way, the data for each component of the stress tensor collapses onto the line "
+            "predicted by the force-network model over at least four decades.",
+            "957",
+        ),
+        "Ours: log10 lhs against log10 rhs over the runs with both sides positive (a perfect collapse: slope 1, "
+        "scatter 0). Scatter = rms of log10(lhs/rhs) in decades (dex); decades = the span of log10 rhs (of log10 "
+        "lhs in brackets) over those runs; rows left out because a side is ≤ 0, or without a value (no ξ/ξ_el). "
+        "Readings: " + "; ".join(f"{r[1:] or 'main'} = {text}" for r, text in nt.READINGS) + ".",
+        "",
+        "| eq. | reading | slope | scatter (dex) | runs used | side ≤ 0 | no value | decades rhs (lhs) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for c in nt.collapse_table(table):
+        lines.append(
+            f"| {c['number']} | {c['reading'][1:] or 'main'} | {nt.fmt_number(c['slope'])} | "
+            f"{nt.fmt_number(c['scatter'])} | {c['used']} | {c['non_positive']} | {c['missing']} | "
+            f"{nt.fmt_number(c['decades_rhs'], 2)} ({nt.fmt_number(c['decades_lhs'], 2)}) |"
+        )
+    # Only a run with a sum limit can lack a real continuation.
+    real = nt.column(table, "continuation_real", "prediction")
+    limited = np.isfinite(nt.column(table, "sum_limit", "prediction"))
+    lines += [
+        "",
+        f"{int(np.sum(limited & (real == 0)))} of {int(np.sum(limited))} runs with a ξ/ξ_el have a negative base "
+        "with a non-integer ξ/ξ_el − 1 (no real continuation of the sums: their main reading is the floor one).",
+    ]
+    # σ(θ) and the identity s^bc/p^bc = −2χ12.
+    ratio, ratio_err, target, target_err, sig = nt.identity_deviation(table)
+    frames = nt.identity_deviation(table, frames=True)
+    aniso = nt.value_range(nt.column(table, "sigma_anisotropy"))
+    maxdev = nt.value_range(nt.column(table, "sigma_max_deviation"))
+    k, kf = nt.largest_finite(sig), nt.largest_finite(frames[4])
+    lines += [
+        "",
+        "The identity s^bc/p^bc = −2χ12 (s = −Σxy) holds when the contact distance σ(θ) does not depend on θ. "
+        f"Ours: the 2θ amplitude of σ(θ)/⟨σ⟩ from {nt.fmt_number(aniso[0], 4)} to {nt.fmt_number(aniso[1], 4)}, "
+        f"the largest |σ_k/⟨σ⟩ − 1| of a θ bin from {nt.fmt_number(maxdev[0], 4)} to {nt.fmt_number(maxdev[1], 4)}. "
+        "s^bc/p^bc from the stress rows against −2χ12: "
+        + (
+            f"largest difference {nt.fmt_sigmas(sig[k])} ({where(k)}: {nt.fmt_pm(ratio[k], ratio_err[k])} against "
+            f"{nt.fmt_pm(target[k], target_err[k])}), within errors in "
+            f"{int(np.sum(np.abs(sig[np.isfinite(sig)]) <= nt.AGREE_SIGMAS))} of {int(np.sum(np.isfinite(sig)))} runs"
+            if k is not None
+            else "not measured"
+        )
+        + "; from the frames' contacts (exact whatever σ(θ)): "
+        + (f"largest difference {nt.fmt_sigmas(frames[4][kf])} ({where(kf)})." if kf is not None else "not measured."),
+    ]
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", required=True)
@@ -838,6 +1007,8 @@ def main():
     ap.add_argument("--ch4-incline", help="incline_bulk.py table of the incline runs (Figs 4.8-4.10)")
     ap.add_argument("--ch4-critical", help="critical_angle.py table (θ_c)")
     ap.add_argument("--ch6-kinetic", help="gf-kinetic table of the chapter-6 runs (Figs 6.1-6.3)")
+    ap.add_argument("--ch6-network", help="gf-network table of the chapter-6 runs (Figs 6.5-6.8)")
+    ap.add_argument("--ch6-network-halfstep", help="gf-network table of the half-step runs and their pairs (Fig 6.7)")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
     ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
@@ -845,6 +1016,8 @@ def main():
         ap.error("--ch4-sweep, --ch4-bagnold and --ch4-reference go together")
     if args.ch6_kinetic and not args.ch5_correlate:
         ap.error("--ch6-kinetic needs --ch5-correlate (ξ/ξ_el of its runs)")
+    if args.ch6_network_halfstep and not args.ch6_network:
+        ap.error("--ch6-network-halfstep needs --ch6-network")
     if bool(args.ch4_incline) != bool(args.ch4_critical):
         ap.error("--ch4-incline and --ch4-critical go together")
     lines = [
@@ -867,6 +1040,8 @@ def main():
         lines += ch5_section(args.ch5_correlate, args.ch5_clusters)
     if args.ch6_kinetic:
         lines += ch6_section(args.ch6_kinetic, args.ch5_correlate)
+    if args.ch6_network:
+        lines += ch6_network_section(args.ch6_network, args.ch6_network_halfstep)
     out = atomic_output(args.output)
     try:
         with open(out.name, "w") as fh:

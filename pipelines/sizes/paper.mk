@@ -62,6 +62,11 @@ $(foreach nu,0.770 0.780 0.790,$(eval CH6_EQ_WARMUP_DT_$(nu) := $(CH6_EQ_WARMUP_
 CH6_EQ_WARMUP_DT_0.810 := $(CH6_EQ_WARMUP_DT_0.820)
 CH6_EQ_DT_0.810        := $(CH6_EQ_DT_0.820)
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
+# Chapter 6, force-network model (gf-network): Fig. 6.7's inset, z at the default step and at half
+# of it, from half-step runs (the shear run of the same name at SHEAR_STRAIN_STEP/2, twice its cost)
+# at these ν, e.
+CH6_HALFSTEP_NU      := 0.700 0.790 0.810 0.820
+CH6_HALFSTEP_E       := 0.00 0.50 0.92
 # Chapter 4, incline: the thesis' sizes are "heights and widths ranging between 25 and 300
 # grain diameters" (§4.3.1); here a layer 50 diameters thick on a base 100 wide (~5·10³
 # grains), the default step 2e-3 τ, 2000 τ per run (the transient grows with the height:

@@ -64,6 +64,12 @@ CH6_EQ_NU            := $(CH4_NU)
 CH6_EQ_SEED          := $(CH4_SEED)
 include pipelines/sizes/ch6_recipe.mk
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
+# Chapter 6, force-network model (gf-network): Fig. 6.7's inset, z at the default step and at half
+# of it, from half-step runs (the shear run of the same name at SHEAR_STRAIN_STEP/2) at these ν, e.
+# Cost: 3-21 s each, 65 s for the six (wall time, one core of a loaded machine), 1.6 times the
+# default-step run of the same name at ν = 0.70 and 0.81, e = 0.
+CH6_HALFSTEP_NU      := 0.700 0.790 0.810
+CH6_HALFSTEP_E       := 0.00 0.50
 # Chapter 4, incline (gf-incline): a layer 25 diameters thick on a base 40 wide (~1000
 # grains), e = 0.5; Figs 4.7-4.9 at 12°, μ = 0. Cost: docs/performance.md, gf-incline.
 INCLINE_WIDTH           := 40

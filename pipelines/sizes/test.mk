@@ -47,6 +47,17 @@ CH6_EQ_STEPS         := 100
 CH6_EQ_FRAME_EVERY   := 20
 CH6_EQ_OBSERVE_EVERY := 1
 CH6_FROM_STRAIN      := $(CH4_FROM_STRAIN)
+# Chapter 6, force-network model: one half-step run (the ν = 0.7, e = 0 run at half the step),
+# only to exercise the rule and the second table.
+CH6_HALFSTEP_NU      := 0.700
+CH6_HALFSTEP_E       := 0.00
+# 64 grains: the reference run's ξ_el is not finite, and gf-network refuses a correlation table
+# without ξ_el; the force-network table is made without one (no right-hand sides). Only the
+# ν = 0.7, e = 0 run has long-lived contacts (age ≥ 2) in its window (the others: none in most
+# or all frames), and gf-network refuses a run without any.
+CH6_NETWORK_CORRELATION :=
+CH6_NETWORK_NU       := 0.700
+CH6_NETWORK_E        := 0.00
 # Chapter 4, incline: a layer 12 diameters thick on a base 10 wide, 20 τ (the bulk table needs
 # a few layers of 3 diameters between the skipped base and surface).
 INCLINE_WIDTH           := 10

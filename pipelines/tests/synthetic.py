@@ -712,3 +712,68 @@ def chapter6_tables(d):
     )
     packing = write_packing(os.path.join(d, "pack.h5"))
     return {"kinetic": kinetic, "correlate": correlate, "packing": packing, "rows": rows}
+
+
+# gf-network's table (issue-22 contract; docs/file-format.md): the per-run columns of /runs
+# (each value with its _error where the contract has one) and of /prediction.
+NETWORK_RUN_COLUMNS = (
+    "packing_fraction restitution friction tangential_restitution rate dt first_strain last_strain contacts "
+    "long_lived fabric_norm a_f_first_order a_f_prime_first_order mean_binary_force sigma_anisotropy "
+    "sigma_max_deviation"
+).split()
+NETWORK_RUN_WITH_ERRORS = (
+    "coordination coordination_active mean_cos_deflection mean_cos_cos2_deflection Phi Psi phi_11 phi_22 phi_12 "
+    "chi_11 chi_22 chi_12 a_c a_c_prime a_f a_f_prime a4_c a4_c_prime a4_f a4_f_prime p_static p_collisional "
+    "s_static s_collisional sxx_static sxx_collisional shear_ratio_collisional shear_ratio_collisional_frames"
+).split()
+NETWORK_PREDICTION_WITH_ERRORS = [f"lhs_{q}" for q in ("pressure", "shear", "xx")] + [
+    f"rhs_{q}{r}" for r in ("", "_floor", "_active", "_unit") for q in ("pressure", "shear", "xx")
+]
+NETWORK_PREDICTION_COLUMNS = "xi_ratio xi_ratio_error sum_limit network_factor path_factor".split()
+
+
+def write_network_table(path, rows, angle_bins=36, deflection_bins=36, xi_source="correlation"):
+    """A gf-network output laid out as the contract says: `rows` are dicts of the /runs and
+    /prediction columns (input and any of the names above; missing ones NaN, errors NaN unless
+    given; grains, frames, xi_measurable, continuation_real ints). /histograms: C(θ) and F_bc(θ)
+    of the first-order forms with each row's a_c, a′_c, a_f, a′_f (0 where NaN), σ(θ) = 1 and a
+    uniform P_C over |x| ≤ 2π/3."""
+    n = len(rows)
+    theta = (np.arange(angle_bins) + 0.5) * np.pi / angle_bins
+    x = (np.arange(deflection_bins) + 0.5) * np.pi / deflection_bins
+
+    def value(row, name):
+        v = row.get(name, np.nan)
+        return v if v == v else 0.0
+
+    with h5py.File(path, "w") as out:
+        prm = out.create_group("parameters")
+        prm.attrs["program"] = "gf-network"
+        prm.attrs["angle_bins"] = np.int64(angle_bins)
+        prm.attrs["deflection_bins"] = np.int64(deflection_bins)
+        g = out.create_group("runs")
+        g["input"] = np.array([row["input"].encode() for row in rows])
+        for name in ("grains", "frames"):
+            g[name] = np.array([row.get(name, 1000 if name == "grains" else 100) for row in rows], dtype=np.int32)
+        names = NETWORK_RUN_COLUMNS + [m for n_ in NETWORK_RUN_WITH_ERRORS for m in (n_, n_ + "_error")]
+        for name in names:
+            g[name] = np.array([row.get(name, np.nan) for row in rows], dtype=float)
+            g[name].attrs.update({"rows": "runs", "meaning": name, "units": "1"})
+        p = out.create_group("prediction")
+        if xi_source == "none":
+            p.attrs["xi_source"] = "none"
+        names = NETWORK_PREDICTION_COLUMNS + [m for n_ in NETWORK_PREDICTION_WITH_ERRORS for m in (n_, n_ + "_error")]
+        for name in names:
+            p[name] = np.array([row.get(name, np.nan) for row in rows], dtype=float)
+            p[name].attrs.update({"rows": "runs", "meaning": name, "units": "1"})
+        for name in ("xi_measurable", "continuation_real"):
+            p[name] = np.array([row.get(name, 1) for row in rows], dtype=np.int32)
+        h = out.create_group("histograms")
+        h["theta"] = theta
+        h["deflection"] = x
+        s2, c2 = np.sin(2 * theta), np.cos(2 * theta)
+        h["C"] = np.array([(1 + value(r, "a_c") * s2 + value(r, "a_c_prime") * c2) / (2 * np.pi) for r in rows])
+        h["binary_force"] = np.array([1 + value(r, "a_f") * s2 + value(r, "a_f_prime") * c2 for r in rows])
+        h["sigma"] = np.ones((n, angle_bins))
+        h["P_C"] = np.tile(np.where(x <= 2 * np.pi / 3, 3 / (4 * np.pi), 0.0), (n, 1))
+    return path

@@ -1,22 +1,26 @@
 #!/usr/bin/env bash
 # Pipeline test, chapter 6 and the whole reproduction: the tiny sweep (SIZE=test) of every
 # chapter end to end in a scratch copy of the tree (quick-files: packings, shear runs, the elastic
-# equilibrium runs with their warm-ups, the incline, every table, every figure, REPORT.md), after
-# which `make -q` finds nothing to redo; then a new gf-kinetic stamp (what a change of gf-kinetic's
-# machine code writes) makes exactly the chapter-6 table, its figures and the report out of date:
-# remaking them runs gf-kinetic, the ch6 plots and report.py, never a simulation or another analysis.
+# equilibrium runs with their warm-ups, the half-step run, the incline, every table, every figure,
+# REPORT.md), after which `make -q` finds nothing to redo; then a new gf-kinetic stamp (what a
+# change of gf-kinetic's machine code writes) makes exactly the kinetic table, its figures and the
+# report out of date, and a new gf-network stamp exactly the two force-network tables, Figs
+# 6.5-6.8 and the report: remaking runs that program, its plots and report.py, never a simulation
+# or another analysis, and leaves every other file as it was.
 set -euo pipefail
 src=${1:?usage: ch6_incremental.sh SOURCE_DIR}
-if [ ! -f "$src/tools/gf-kinetic.cpp" ]; then
-  echo "SKIP: $src/tools/gf-kinetic.cpp does not exist (the chapter-6 table needs gf-kinetic)"
-  exit 77
-fi
+for program in gf-kinetic gf-network; do
+  if [ ! -f "$src/tools/$program.cpp" ]; then
+    echo "SKIP: $src/tools/$program.cpp does not exist (the chapter-6 tables need $program)"
+    exit 77
+  fi
+done
 source "$(dirname "${BASH_SOURCE[0]}")/lib/scratch_copy.bash"
 scratch_copy "$src"
 
 # The build dominates this test: only the programs, without optimisation (see ch5_incremental.sh).
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O0 -DNDEBUG" >/dev/null
-programs="gf-pack gf-shear gf-correlate gf-incline gf-kinetic"
+programs="gf-pack gf-shear gf-correlate gf-incline gf-kinetic gf-network"
 M=(make --no-print-directory -f Makefile.sweeps SIZE=test "BUILD_TARGETS=$programs" "PROGRAMS=$programs")
 fail() { echo "FAIL: $*" >&2; exit 1; }
 up_to_date() { "${M[@]}" -q quick-files; }
@@ -25,12 +29,13 @@ mtimes() { stat -c '%n %Y' "$@"; }
 "${M[@]}" build >/dev/null
 "${M[@]}" quick-files >/dev/null
 up_to_date || fail "a fresh full sweep is not up to date"
-for f in figures/fig6_1.png figures/fig6_3.png runs/test/ch6_kinetic.h5 figures/REPORT.md; do
+for f in figures/fig6_{1,3,5,6,7,8}.png runs/test/ch6_{kinetic,network,network_halfstep}.h5 figures/REPORT.md; do
   [ -s "$f" ] || fail "$f was not made"
 done
 # test.mk's e grid (0, 0.92) has no run of Fig 6.2's pair (0.5, 0.25): that figure is left out.
 [ ! -e figures/fig6_2.png ] || fail "figures/fig6_2.png made without a run at e = 0.5 or 0.25"
-grep -q '^## Chapter 6' figures/REPORT.md || fail "REPORT.md has no chapter-6 section"
+grep -q '^## Chapter 6: kinetic' figures/REPORT.md || fail "REPORT.md has no chapter-6 kinetic section"
+grep -q '^## Chapter 6: the force-network' figures/REPORT.md || fail "REPORT.md has no force-network section"
 for nu in 0.500 0.700; do
   for f in runs/test/eq{warm,settle,}_nu${nu}_s1.h5; do [ -s "$f" ] || fail "$f was not made"; done
 done
@@ -54,32 +59,59 @@ with h5py.File("runs/test/ch6_kinetic.h5", "r") as f:
     inputs = sorted(v.decode() if isinstance(v, bytes) else v for v in f["/runs/input"][...])
     assert len(inputs) == 4 and all("_mu0.00_r1e-02_s1.h5" in v for v in inputs), inputs
     assert len(f["/equilibrium/packing_fraction"]) == 2
+# The half-step run: the ν = 0.7, e = 0 shear run at half the strain step, twice the steps and
+# twice the steps between frames; the network tables: test.mk's grid (the ν = 0.7, e = 0 run),
+# and the half-step run with its default-step run.
+def attrs(path):
+    with h5py.File(path, "r") as f:
+        return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["/parameters"].attrs.items()}
+half = attrs("runs/test/halfstep_nu0.700_e0.00_mu0.00_r1e-02_s1.h5")
+full = attrs("runs/test/shear_nu0.700_e0.00_mu0.00_r1e-02_s1.h5")
+assert float(half["strain-step"]) == float(full["strain-step"]) / 2, (half, full)
+assert int(half["frame-every"]) == 2 * int(full["frame-every"]), (half, full)
+assert int(half["total_steps"]) == 2 * int(full["total_steps"]), (half, full)
+assert half["input"] == full["input"] and float(half["strain"]) == float(full["strain"]), (half, full)
+def inputs(path):
+    with h5py.File(path, "r") as f:
+        return sorted(v.decode() if isinstance(v, bytes) else v for v in f["/runs/input"][...])
+grid = inputs("runs/test/ch6_network.h5")
+assert [v.split("/")[-1] for v in grid] == ["shear_nu0.700_e0.00_mu0.00_r1e-02_s1.h5"], grid
+pair = inputs("runs/test/ch6_network_halfstep.h5")
+assert [v.split("/")[-1] for v in pair] == ["halfstep_nu0.700_e0.00_mu0.00_r1e-02_s1.h5",
+                                            "shear_nu0.700_e0.00_mu0.00_r1e-02_s1.h5"], pair
 PY
 [ -z "$(find runs figures -name '*part*')" ] || fail "partial files left behind"
 
-mapfile -t runs < <(ls runs/test/*.h5 | grep -v -e ch6_kinetic.h5)
-mapfile -t others < <(ls figures/*.png | grep -v fig6_)
-ch6=(runs/test/ch6_kinetic.h5 figures/fig6_1.png figures/fig6_3.png figures/REPORT.md)
-runs_before=$(mtimes "${runs[@]}")
-others_before=$(mtimes "${others[@]}")
-ch6_before=$(mtimes "${ch6[@]}")
-sleep 1.1  # make compares seconds on some file systems
-
-# A new gf-kinetic stamp: the ch6 outputs are out of date ...
-echo "a changed gf-kinetic" > build/stamps/gf-kinetic.stamp
-if up_to_date; then fail "a new gf-kinetic stamp did not make quick-files out of date"; fi
-plan=$("${M[@]}" -n quick-files)
-grep -q 'bin/gf-kinetic' <<<"$plan" || fail "gf-kinetic would not be re-run"
-grep -q 'ch6_kinetic.py' <<<"$plan" || fail "the chapter-6 figures would not be redrawn"
-grep -q 'report.py' <<<"$plan" || fail "the report would not be rewritten"
-if grep -qE 'bin/gf-(shear|pack|correlate|incline)|steady_state\.py|incline_bulk\.py|critical_angle\.py|plot/(ch[45]_|snapshot)' \
-  <<<"$plan"; then fail "more than chapter 6 would be redone: $plan"; fi
-# ... and remaking redoes exactly them.
-"${M[@]}" quick-files >/dev/null
-up_to_date || fail "quick-files not up to date after remaking chapter 6"
-[ "$(mtimes "${runs[@]}")" = "$runs_before" ] || fail "runs or other tables were redone"
-[ "$(mtimes "${others[@]}")" = "$others_before" ] || fail "figures of other chapters were redrawn"
-while read -r name before; do
-  [ "$(stat -c %Y "$name")" != "$before" ] || fail "$name was not remade"
-done <<<"$ch6_before"
+# Every output of the sweep with its time; a new stamp of $1 must remake exactly the files named
+# after it, and its plan must name $1 and the scripts given, and no simulation or other analysis.
+mapfile -t outputs < <(ls runs/test/*.h5 figures/*)
+remakes() {
+  local program=$1 scripts=$2 forbidden=$3
+  shift 3
+  local before plan name
+  before=$(mtimes "${outputs[@]}")
+  sleep 1.1  # make compares seconds on some file systems
+  echo "a changed $program" > "build/stamps/$program.stamp"
+  if up_to_date; then fail "a new $program stamp did not make quick-files out of date"; fi
+  plan=$("${M[@]}" -n quick-files)
+  grep -q "bin/$program" <<<"$plan" || fail "$program would not be re-run"
+  for script in $scripts; do
+    grep -q "$script" <<<"$plan" || fail "$script would not be run after a new $program stamp"
+  done
+  if grep -qE "$forbidden" <<<"$plan"; then fail "more than $program's outputs would be redone: $plan"; fi
+  "${M[@]}" quick-files >/dev/null
+  up_to_date || fail "quick-files not up to date after remaking $program's outputs"
+  while read -r name time; do
+    if printf '%s\n' "$@" | grep -qxF "$name"; then
+      [ "$(stat -c %Y "$name")" != "$time" ] || fail "$name was not remade after a new $program stamp"
+    else
+      [ "$(stat -c %Y "$name")" = "$time" ] || fail "$name was remade after a new $program stamp"
+    fi
+  done <<<"$before"
+}
+simulations='bin/gf-(shear|pack|correlate|incline)|steady_state\.py|incline_bulk\.py|critical_angle\.py|plot/(ch[45]_|snapshot)'
+remakes gf-kinetic "ch6_kinetic.py report.py" "$simulations|bin/gf-network|ch6_network\.py" \
+  runs/test/ch6_kinetic.h5 figures/fig6_1.png figures/fig6_3.png figures/REPORT.md
+remakes gf-network "ch6_network.py report.py" "$simulations|bin/gf-kinetic|ch6_kinetic\.py" \
+  runs/test/ch6_network.h5 runs/test/ch6_network_halfstep.h5 figures/fig6_{5,6,7,8}.png figures/REPORT.md
 echo "pipeline ch6_incremental: 1 passed, 0 failed"
