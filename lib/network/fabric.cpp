@@ -59,7 +59,6 @@ Ingredients ingredients(const FrameSums& m) {
   g.fabric_norm = inv.fabric_norm;
   g.a_f_first_order = X - g.a_c;
   g.a_f_prime_first_order = Y - g.a_c_prime;
-  g.sigma_anisotropy = ratio(2 * std::hypot(m.sum_b_sin2, m.sum_b_cos2), m.sum_b);
   // Σ_αβ ∝ Σ |b| F_bc n_α n_β: p ∝ ½Σ|b|F_bc, s = −Σxy ∝ −½Σ|b|F_bc sin2θ.
   g.shear_ratio_collisional_frames = ratio(-m.sum_bf_sin2, m.sum_bf);
   g.mean_binary_force = ratio(m.sum_f, m.contacts);

@@ -64,7 +64,6 @@ class FrameAnalyser {
 //   a_c = 4φ12, a′_c = 2(φ11 − φ22), a_f, a′_f by invert_force_fabric (exact) and the
 //   first-order reading a_f ≈ 4χ12 − a_c, a′_f ≈ 2(χ11 − χ22) − a′_c,
 //   fabric_norm = D = 1 + (a_c a_f + a′_c a′_f)/2,
-//   sigma_anisotropy = 2√(⟨|b| sin2θ⟩² + ⟨|b| cos2θ⟩²)/⟨|b|⟩,
 //   shear_ratio_collisional_frames = −⟨|b| F_bc sin2θ⟩/⟨|b| F_bc⟩ (s^bc/p^bc with s = −Σxy),
 //   mean_binary_force = ⟨F_bc⟩ contact-weighted (= D·⟨F_bc⟩ angle-averaged).
 // A ratio with a zero denominator is NaN.
@@ -72,7 +71,7 @@ struct Ingredients {
   double z = 0, z_active = 0, mean_cos = 0, mean_cos_cos2 = 0, Phi = 0, Psi = 0;
   double phi11 = 0, phi22 = 0, phi12 = 0, chi11 = 0, chi22 = 0, chi12 = 0, fabric_norm = 0;  // D
   double a_c = 0, a_c_prime = 0, a_f = 0, a_f_prime = 0, a_f_first_order = 0, a_f_prime_first_order = 0;
-  double sigma_anisotropy = 0, shear_ratio_collisional_frames = 0, mean_binary_force = 0;
+  double shear_ratio_collisional_frames = 0, mean_binary_force = 0;
 };
 Ingredients ingredients(const FrameSums& means);
 

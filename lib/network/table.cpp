@@ -181,9 +181,6 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     means.*kFields[f] = mean(series[f]);
   }
   if (!(means.contacts > 0)) throw bad("no contact in the window's " + std::to_string(frames.size()) + " frame(s)");
-  if (!(means.long_lived > 0))
-    throw bad("no long-lived contact (age >= 2) in the window's " + std::to_string(frames.size()) +
-              " frame(s): z, Phi and Psi are undefined");
   r["contacts"] = means.contacts;
   r["long_lived"] = means.long_lived;
 
@@ -229,7 +226,6 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   r["a_f_first_order"] = g.a_f_first_order;
   r["a_f_prime_first_order"] = g.a_f_prime_first_order;
   r["mean_binary_force"] = g.mean_binary_force;
-  r["sigma_anisotropy"] = g.sigma_anisotropy;
   pr["xi_ratio"] = xi.ratio;
   pr["xi_ratio_error"] = xi.error;
   row.xi_measurable = xi.measurable ? 1 : 0;
@@ -275,8 +271,11 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   for (double c : pooled.deflection_count) pairs += c;
   const std::vector<double> force = per_bin(pooled.angle_force, pooled.angle_count);
   const std::vector<double> length = per_bin(pooled.angle_branch, pooled.angle_count);
-  double force_average = 0;
-  for (double f : force) force_average += f / double(K);
+  // The angle average over the bins that hold a contact: an empty bin (NaN) stays NaN alone.
+  double force_average = 0, filled = 0;
+  for (double f : force)
+    if (std::isfinite(f)) force_average += f, filled += 1;
+  force_average /= filled;
   const double mean_branch = branch / contacts;
   double deviation = 0;
   for (std::size_t k = 0; k < K; ++k) {
@@ -286,6 +285,8 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     deviation = std::max(deviation, std::fabs(row.sigma.back() - 1));
   }
   r["sigma_max_deviation"] = deviation;
+  const Harmonic sigma_2 = harmonic(row.sigma, 2);
+  r["sigma_anisotropy"] = std::hypot(sigma_2.sin_coefficient, sigma_2.cos_coefficient);
   for (std::size_t k = 0; k < D; ++k)
     row.P_C.push_back(pairs > 0 ? pooled.deflection_count[k] / (2 * pairs * dx) : kNaN);
 
@@ -547,8 +548,8 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
       {"a4_f_prime_error", "1", "block-jackknife standard error of a4_f_prime"},
       {"mean_binary_force", "force", "<F_bc> over all contacts of the window (contact-weighted)"},
       {"sigma_anisotropy", "1",
-       "2 sqrt(<|b| sin 2theta>^2 + <|b| cos 2theta>^2)/<|b|>, contact-weighted: it holds C(theta)'s own 2theta "
-       "anisotropy (sqrt(a_c^2 + a'_c^2) for a constant sigma); sigma_max_deviation measures sigma(theta) alone"},
+       "amplitude sqrt(s^2 + c^2) of the 2theta harmonic of sigma(theta)/<sigma> (/histograms/sigma, the per-bin "
+       "mean |b|, bin-average corrected): sigma(theta)'s own anisotropy, C(theta)'s excluded; NaN if a bin is empty"},
       {"sigma_max_deviation", "1", "max over the angle bins of |sigma(theta_k)/<sigma> - 1| (/histograms/sigma)"},
       {"p_static", kStress, "static pressure p^s = (Sxx + Syy)/2 of stress_static, window mean of the rows"},
       {"p_static_error", kStress, "blocked standard error of p_static"},
