@@ -970,6 +970,24 @@ def ch6_network_section(network_path, halfstep_path=None):
         f"{int(np.sum(limited & (real == 0)))} of {int(np.sum(limited))} runs with a ξ/ξ_el have a negative base "
         "with a non-integer ξ/ξ_el − 1 (no real continuation of the sums: their main reading is the floor one).",
     ]
+    # Eq. 6.27's bound, whatever the reading: the measured excess against ξ/ξ_el − 1.
+    excess = nt.bound_excess(table)
+    measured = np.isfinite(excess)
+    above = measured & (excess > nt.AGREE_SIGMAS)
+    kb = nt.largest_finite(np.where(measured, excess, np.nan))
+    lines += [
+        "",
+        "With 0 ≤ min[Φ(z − 1), 1] ≤ 1 the right-hand side of eq. 6.27 is at most ξ/ξ_el − 1 (every link passes "
+        "its whole force on), whatever z, Φ and the reading of the sums. Ours: (p^s − p^bc)/p^bc exceeds ξ/ξ_el − 1 "
+        f"by more than {nt.AGREE_SIGMAS:g} combined errors in {int(above.sum())} of {int(measured.sum())} runs with "
+        "a ξ/ξ_el"
+        + (
+            f" (largest: {where(kb)}, {nt.fmt_pm(nt.column(table, 'lhs_pressure', 'prediction')[kb], nt.column(table, 'lhs_pressure_error', 'prediction')[kb])} "
+            f"against ξ/ξ_el − 1 = {nt.fmt_number(nt.column(table, 'sum_limit', 'prediction')[kb], 2)})."
+            if kb is not None
+            else "."
+        ),
+    ]
     # σ(θ) and the identity s^bc/p^bc = −2χ12.
     ratio, ratio_err, target, target_err, sig = nt.identity_deviation(table)
     frames = nt.identity_deviation(table, frames=True)

@@ -202,6 +202,16 @@ def identity_deviation(table, frames=False):
     return ratio, ratio_error, target, target_error, difference_sigmas(ratio, ratio_error, target, target_error)
 
 
+def bound_excess(table):
+    """Eq. 6.27's bound: with 0 ≤ M = min[Φ(z − 1), 1] ≤ 1 its right-hand side is at most
+    ξ/ξ_el − 1 (every link passes its whole force on), whatever z, Φ and the reading of the
+    sums. Per row: (lhs_pressure − sum_limit) in combined errors (lhs_pressure_error and
+    xi_ratio_error, ∂sum_limit/∂(ξ/ξ_el) = 1); NaN without a ξ/ξ_el."""
+    lhs, lhs_error = column(table, "lhs_pressure", "prediction"), column(table, "lhs_pressure_error", "prediction")
+    limit, limit_error = column(table, "sum_limit", "prediction"), column(table, "xi_ratio_error", "prediction")
+    return difference_sigmas(lhs, lhs_error, limit, limit_error)
+
+
 def largest_finite(values):
     """The index of the largest finite |value| (None if there is none)."""
     values = np.asarray(values, dtype=float)

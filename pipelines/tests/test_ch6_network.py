@@ -74,6 +74,8 @@ def sweep_rows(d):
                 sigma_anisotropy=0.001 * (k + 1),
                 sigma_max_deviation=0.01 * (k + 1),
                 lhs_pressure=RHS[k],
+                lhs_pressure_error=0.1,
+                xi_ratio_error=0.2,
                 rhs_pressure=RHS[k],
                 rhs_pressure_floor=RHS[k] / 10**0.1,
                 rhs_pressure_active=RHS[k] ** 2,
@@ -199,6 +201,12 @@ class NetworkTableTest(unittest.TestCase):
         np.testing.assert_allclose(target_error, 0.02)
         np.testing.assert_allclose(sig, [0, 0, 0, 0, 3.0, 0], atol=1e-12)
         self.assertEqual(nt.largest_finite(sig), 4)
+
+    def test_bound_excess(self):
+        # lhs_pressure 10^-2 … 10^3 against ξ/ξ_el − 1 = 2.5, errors 0.1 and 0.2 combined.
+        sig = nt.bound_excess(self.table)
+        np.testing.assert_allclose(sig, (RHS - 2.5) / np.hypot(0.1, 0.2))
+        self.assertEqual(int(np.sum(sig > nt.AGREE_SIGMAS)), 3)
 
     def test_step_pairs(self):
         half = nt.read_table(self.half)
@@ -340,6 +348,13 @@ class Ch6NetworkOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         self.assertEqual(rows[("6.28", "main")][2:5], ["5", "1", "0"])
         self.assertEqual(rows[("6.29", "main")][2:5], ["5", "0", "1"])
         self.assertIn("1 of 6 runs with a ξ/ξ_el have a negative base with a non-integer", self.report)
+
+    def test_bound(self):
+        self.assertIn(
+            "(p^s − p^bc)/p^bc exceeds ξ/ξ_el − 1 by more than 2 combined errors in 3 of 6 runs with a ξ/ξ_el "
+            "(largest: ν = 0.810, e = 0.5, 1000.00 ± 0.10 against ξ/ξ_el − 1 = 2.50).",
+            self.report,
+        )
 
     def test_identity(self):
         self.assertIn("the 2θ amplitude of σ(θ)/⟨σ⟩ from 0.0010 to 0.0060", self.report)
