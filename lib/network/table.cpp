@@ -466,24 +466,8 @@ std::vector<Column> run_columns() {
   for (const Column& col : c) {
     out.push_back(col);
     const std::string name = col.name;
-    static const std::vector<std::string> with_error = {"coordination",
-                                                        "coordination_active",
-                                                        "mean_cos_deflection",
-                                                        "mean_cos_cos2_deflection",
-                                                        "Phi",
-                                                        "Psi",
-                                                        "phi_11",
-                                                        "phi_22",
-                                                        "phi_12",
-                                                        "chi_11",
-                                                        "chi_22",
-                                                        "chi_12",
-                                                        "a_c",
-                                                        "a_c_prime",
-                                                        "a_f",
-                                                        "a_f_prime",
-                                                        "shear_ratio_collisional_frames"};
-    if (std::find(with_error.begin(), with_error.end(), name) != with_error.end())
+    // The frame quantities of /runs carry their delta-method error beside them.
+    if (std::find(kRunQuantities.begin(), kRunQuantities.end(), name) != kRunQuantities.end())
       out.push_back({name + "_error", col.units,
                      "standard error of " + name + " (delta method over the frames, covariances included)"});
   }
