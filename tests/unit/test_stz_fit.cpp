@@ -122,13 +122,15 @@ TEST(Stz, FitRecoversCoefficientsFromNoisyPoints) {
 }
 
 // Coverage: over 50 realisations, the truth within 2 stated σ in ≥ 85 % of them (95 % for a
-// Gaussian estimator) for every coefficient and for tanθ*. Measured over 400 realisations
+// Gaussian estimator) for every coefficient and for tanθ*, and the mean stated error within
+// 0.7–1.4 of the realisations' scatter. Measured over 400 realisations
 // (0.5 % noise, x from 0.05): weighted 95–97 % for all four; unweighted with equal σ 92–94 %;
 // unweighted with σ ∝ μ only 87 % for κ and ζ, since √(χ²/dof) assumes equal errors: give the
 // errors when they differ.
 void expect_coverage(bool weighted, StzObjective objective, double x_noise, bool absolute = false) {
   Rng rng(77);
   int inside[4] = {}, count = 0;
+  double sum[4] = {}, sum2[4] = {}, stated[4] = {};
   const double truth_tan = tan_theta_star(kTruth.kappa, kTruth.zeta);
   for (int r = 0; r < 50; ++r) {
     const Points p = synthetic(kTruth, rng, 0.005, x_noise, 0.05, absolute);
@@ -141,10 +143,24 @@ void expect_coverage(bool weighted, StzObjective objective, double x_noise, bool
     inside[1] += std::abs(fit.value.kappa - kTruth.kappa) <= 2 * fit.error.kappa;
     inside[2] += std::abs(fit.value.zeta - kTruth.zeta) <= 2 * fit.error.zeta;
     inside[3] += std::abs(fit.tan_theta_star - truth_tan) <= 2 * fit.tan_theta_star_error;
+    const double value[4] = {fit.value.A, fit.value.kappa, fit.value.zeta, fit.tan_theta_star};
+    const double error[4] = {fit.error.A, fit.error.kappa, fit.error.zeta, fit.tan_theta_star_error};
+    for (int i = 0; i < 4; ++i) {
+      sum[i] += value[i];
+      sum2[i] += value[i] * value[i];
+      stated[i] += error[i] / 50;
+    }
     ++count;
   }
   const char* names[] = {"A", "kappa", "zeta", "tan theta*"};
-  for (int i = 0; i < 4; ++i) EXPECT_GE(inside[i], 0.85 * count) << names[i];
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_GE(inside[i], 0.85 * count) << names[i];
+    // Nor too large: the mean stated error against the scatter of the estimates (a standard
+    // deviation from 50 samples is good to ≈ 10 %).
+    const double scatter = std::sqrt((sum2[i] - sum[i] * sum[i] / count) / (count - 1));
+    EXPECT_GT(stated[i] / scatter, 0.7) << names[i];
+    EXPECT_LT(stated[i] / scatter, 1.4) << names[i];
+  }
 }
 
 TEST(Stz, FitErrorsCoverTheTruthUnweighted) { expect_coverage(false, StzObjective::least_squares_mu, 0, true); }
