@@ -28,7 +28,7 @@ struct StzCoefficients {
 double stz_rate(const StzCoefficients& c, double mu);
 // dx/dμ.
 double stz_rate_derivative(const StzCoefficients& c, double mu);
-// tanθ* of eq. 6.35, to a relative 1e-14 (bisection on the bracketed, monotone
+// tanθ* of eq. 6.35, to a relative 1e-15 (bisection on the bracketed, monotone
 // ζ t tanh(κt) − 1). NaN for non-positive or non-finite κ, ζ.
 double tan_theta_star(double kappa, double zeta);
 // μ(x): the inverse of stz_rate on μ ≥ tanθ* (safeguarded Newton inside a bracket), for
