@@ -1,4 +1,5 @@
 #include "core/cli.hpp"
+#include "core/format.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -58,11 +59,7 @@ std::string wrap(const std::string& text, std::size_t first_indent, std::size_t 
   }
 }
 
-std::string format_real(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+std::string format_real(double v) { return format_number(v, 17); }
 }  // namespace
 
 CommandLine::CommandLine(std::string program, std::string synopsis, std::string description)

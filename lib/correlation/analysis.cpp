@@ -1,4 +1,5 @@
 #include "correlation/analysis.hpp"
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,12 +20,6 @@ namespace granflow::correlation {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // Strain of every stored frame, from /observables/strain (`strain`, its values): linear in
 // the step between the rows around the frame's step, and extended linearly beyond the first
@@ -94,7 +89,7 @@ RunSums accumulate_run(const Run& run, const Correlator& correlator, int blocks,
   }
   if (!(total_of(s.blocks, grid).norm > 0))
     throw UsageError("'" + run.path + "': no contact forces in the " + std::to_string(frames) +
-                     " frame(s) at strain >= " + number(run.first_strain));
+                     " frame(s) at strain >= " + format_number(run.first_strain));
   return s;
 }
 
@@ -199,8 +194,8 @@ Run open_run(const std::string& path, double from_strain, bool detect_transient)
     // The tolerance absorbs the round-off of strain = γ̇·t at the frame meant to start at it.
     if (std::fabs(strain[k]) >= from_strain - 1e-9) run.frames.push_back(k);
   if (run.frames.empty())
-    throw bad("--from-strain " + number(from_strain) + " is past the end of the run (last frame at strain " +
-              number(std::fabs(strain.back())) + ")");
+    throw bad("--from-strain " + format_number(from_strain) + " is past the end of the run (last frame at strain " +
+              format_number(std::fabs(strain.back())) + ")");
   run.first_strain = std::fabs(strain[run.frames.front()]);
   run.last_strain = std::fabs(strain[run.frames.back()]);
   return run;
@@ -225,15 +220,15 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
       if (r.half_side < narrowest->half_side) narrowest = &r;
   const double max_lag = settings.max_lag > 0 ? settings.max_lag : std::min(15 * sigma, narrowest->half_side);
   if (max_lag > narrowest->half_side)
-    throw UsageError("option --max-lag: " + number(max_lag) + " exceeds half the shorter box side (" +
-                     number(narrowest->half_side) + ") of '" + narrowest->path + "'");
+    throw UsageError("option --max-lag: " + format_number(max_lag) + " exceeds half the shorter box side (" +
+                     format_number(narrowest->half_side) + ") of '" + narrowest->path + "'");
   const double bin_width = settings.bin_width > 0 ? settings.bin_width : sigma / 20;
   int coarse = std::max(1, int(std::lround(sigma / 4 / bin_width)));
   if (settings.abs_bin_width > 0) {
     coarse = int(std::lround(settings.abs_bin_width / bin_width));
     if (coarse < 1 || std::fabs(settings.abs_bin_width - coarse * bin_width) > 1e-6 * settings.abs_bin_width)
-      throw UsageError("option --abs-bin-width: " + number(settings.abs_bin_width) +
-                       " is not a whole multiple of the radial bin width " + number(bin_width));
+      throw UsageError("option --abs-bin-width: " + format_number(settings.abs_bin_width) +
+                       " is not a whole multiple of the radial bin width " + format_number(bin_width));
   }
   report.grid = LagGrid::make(bin_width, max_lag, settings.angle_bins,
                               settings.map_bin > 0 ? settings.map_bin : sigma / 5, coarse);

@@ -1,4 +1,5 @@
 #include "correlation/force_correlation.hpp"
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,12 +14,6 @@
 namespace granflow::correlation {
 
 namespace {
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -223,18 +218,20 @@ LagGrid LagGrid::make(double bin_width, double max_lag, int angle_bins, double m
   // Counts in double first: a tiny width must be refused, not overflow an int.
   const double radial = std::floor(max_lag / bin_width + 1e-9);
   if (radial > kMaxRadialBins)
-    throw UsageError("option --bin-width: " + number(bin_width) + " gives " + number(radial) +
-                     " radial bins up to --max-lag " + number(max_lag) + "; use at most " + number(kMaxRadialBins));
+    throw UsageError("option --bin-width: " + format_number(bin_width) + " gives " + format_number(radial) +
+                     " radial bins up to --max-lag " + format_number(max_lag) + "; use at most " +
+                     format_number(kMaxRadialBins));
   const double coarse_bins = std::ceil(radial / coarse);
   if (angle_bins * coarse_bins > kMaxSectorBins)
-    throw UsageError("option --abs-bin-width: " + number(coarse * bin_width) + " gives " + number(coarse_bins) +
-                     " coarse bins in each of the " + std::to_string(angle_bins) + " --angle-bins, " +
-                     number(angle_bins * coarse_bins) + " in all; use at most " + number(kMaxSectorBins));
+    throw UsageError("option --abs-bin-width: " + format_number(coarse * bin_width) + " gives " +
+                     format_number(coarse_bins) + " coarse bins in each of the " + std::to_string(angle_bins) +
+                     " --angle-bins, " + format_number(angle_bins * coarse_bins) + " in all; use at most " +
+                     format_number(kMaxSectorBins));
   const double map_half = std::ceil(radial * bin_width / map_bin - 1e-9);
   if (2 * map_half > kMaxMapSide)
-    throw UsageError("option --map-bin: " + number(map_bin) + " gives a map of " + number(2 * map_half) +
-                     "² bins for --max-lag " + number(radial * bin_width) + "; use at most " + number(kMaxMapSide) +
-                     " bins per axis");
+    throw UsageError("option --map-bin: " + format_number(map_bin) + " gives a map of " + format_number(2 * map_half) +
+                     "² bins for --max-lag " + format_number(radial * bin_width) + "; use at most " +
+                     format_number(kMaxMapSide) + " bins per axis");
   LagGrid g;
   g.coarse = coarse;
   g.bin_width = bin_width;

@@ -1,4 +1,5 @@
 #include "io/frame_check.hpp"
+#include "core/format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -9,13 +10,7 @@ namespace granflow::io {
 
 namespace {
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-std::string vector_text(double x, double y) { return "(" + number(x) + ", " + number(y) + ")"; }
+std::string vector_text(double x, double y) { return "(" + format_number(x, 17) + ", " + format_number(y, 17) + ")"; }
 
 std::string at_frame(std::size_t frame) { return "frame " + std::to_string(frame); }
 
@@ -28,7 +23,7 @@ std::string grains_problem(const GrainProperties& grains) {
     for (std::size_t i = 0; i < values->size(); ++i) {
       const double v = (*values)[i];
       if (!(std::isfinite(v) && v > 0))
-        return schema::kGrains + "/" + name + ": grain " + std::to_string(i) + " is " + number(v) +
+        return schema::kGrains + "/" + name + ": grain " + std::to_string(i) + " is " + format_number(v, 17) +
                ", must be finite and > 0";
     }
   return "";
@@ -36,10 +31,12 @@ std::string grains_problem(const GrainProperties& grains) {
 
 std::string box_problem(const Box& box, std::size_t frame) {
   const std::string where = schema::kEdges + "/value: " + at_frame(frame) + ": ";
-  if (!(std::isfinite(box.lx) && box.lx > 0)) return where + "box width " + number(box.lx) + ", must be finite and > 0";
+  if (!(std::isfinite(box.lx) && box.lx > 0))
+    return where + "box width " + format_number(box.lx, 17) + ", must be finite and > 0";
   if (!(std::isfinite(box.ly) && box.ly > 0))
-    return where + "box height " + number(box.ly) + ", must be finite and > 0";
-  if (!std::isfinite(box.offset)) return where + "Lees-Edwards offset " + number(box.offset) + ", must be finite";
+    return where + "box height " + format_number(box.ly, 17) + ", must be finite and > 0";
+  if (!std::isfinite(box.offset))
+    return where + "Lees-Edwards offset " + format_number(box.offset, 17) + ", must be finite";
   return "";
 }
 
@@ -55,10 +52,11 @@ std::string frame_problem(const Frame& frame, std::size_t k, std::size_t grains,
     if (!frame.velocity[i].allFinite())
       return grain(schema::kVelocity, i, vector_text(frame.velocity[i].x(), frame.velocity[i].y()));
   for (std::size_t i = 0; i < frame.orientation.size(); ++i)
-    if (!std::isfinite(frame.orientation[i])) return grain(schema::kOrientation, i, number(frame.orientation[i]));
+    if (!std::isfinite(frame.orientation[i]))
+      return grain(schema::kOrientation, i, format_number(frame.orientation[i], 17));
   for (std::size_t i = 0; i < frame.angular_velocity.size(); ++i)
     if (!std::isfinite(frame.angular_velocity[i]))
-      return grain(schema::kAngularVelocity, i, number(frame.angular_velocity[i]));
+      return grain(schema::kAngularVelocity, i, format_number(frame.angular_velocity[i], 17));
 
   if (!frame.has_contacts) return "";
   const ContactRecords& c = frame.contacts;
@@ -73,13 +71,13 @@ std::string frame_problem(const Frame& frame, std::size_t k, std::size_t grains,
                      "joins grains (" + std::to_string(i) + ", " + std::to_string(j) + "), outside 0.." +
                          std::to_string(grains - 1));
     if (!(std::isfinite(c.normal_force[r]) && c.normal_force[r] >= 0))
-      return contact("normal_force", r, "is " + number(c.normal_force[r]) + ", must be finite and >= 0");
+      return contact("normal_force", r, "is " + format_number(c.normal_force[r], 17) + ", must be finite and >= 0");
     if (!std::isfinite(c.tangential_force[r]))
-      return contact("tangential_force", r, "is " + number(c.tangential_force[r]) + ", must be finite");
+      return contact("tangential_force", r, "is " + format_number(c.tangential_force[r], 17) + ", must be finite");
     if (!c.branch[r].allFinite())
       return contact("branch", r, "is " + vector_text(c.branch[r].x(), c.branch[r].y()) + ", must be finite");
     if (!(std::isfinite(c.binary_force[r]) && c.binary_force[r] >= 0))
-      return contact("binary_force", r, "is " + number(c.binary_force[r]) + ", must be finite and >= 0");
+      return contact("binary_force", r, "is " + format_number(c.binary_force[r], 17) + ", must be finite and >= 0");
     const auto& u = c.pre_normal_velocity[r];
     if (!(std::isfinite(u[0]) && std::isfinite(u[1])))
       return contact("pre_normal_velocity", r, "is " + vector_text(u[0], u[1]) + ", must be finite");

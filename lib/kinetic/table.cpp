@@ -1,4 +1,5 @@
 #include "kinetic/table.hpp"
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,12 +21,6 @@ const char* const kTemperatureDefinition =
     "(1/2)<R^2 (w - <w>)^2> measured on the stored frames (zero for frictionless runs)";
 
 namespace {
-
-std::string number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", x);
-  return buffer;
-}
 
 std::vector<double> subset(const std::vector<double>& x, std::size_t first) {
   return std::vector<double>(x.begin() + std::ptrdiff_t(first), x.end());
@@ -76,8 +71,8 @@ bool ChiTable::covers(double nu) const { return nu >= min_nu() - 1e-9 && nu <= m
 
 ChiValue ChiTable::at(double nu, bool extrapolate) const {
   if (!covers(nu) && !extrapolate)
-    throw std::out_of_range("packing fraction " + number(nu) + " outside the equilibrium table's range [" +
-                            number(min_nu()) + ", " + number(max_nu()) + "]");
+    throw std::out_of_range("packing fraction " + format_number(nu) + " outside the equilibrium table's range [" +
+                            format_number(min_nu()) + ", " + format_number(max_nu()) + "]");
   if (nodes_.size() == 1) {
     const ChiNode& n = nodes_.front();
     const double chi = n.chi * henderson_chi(nu) / henderson_chi(n.nu);
@@ -238,10 +233,10 @@ Common common(const RunData& run) {
 
 EquilibriumRow equilibrium_row(const RunData& run) {
   if (run.restitution != 1)
-    throw UsageError("'" + run.path + "': not an equilibrium run: restitution " + number(run.restitution) +
+    throw UsageError("'" + run.path + "': not an equilibrium run: restitution " + format_number(run.restitution) +
                      " (--equilibrium needs elastic runs, e = 1, at rate 0)");
   if (run.rate != 0)
-    throw UsageError("'" + run.path + "': not an equilibrium run: sheared at rate " + number(run.rate) +
+    throw UsageError("'" + run.path + "': not an equilibrium run: sheared at rate " + format_number(run.rate) +
                      " (--equilibrium needs elastic runs, e = 1, at rate 0)");
   const Common c = common(run);
   EquilibriumRow row;
@@ -302,9 +297,9 @@ RunRow run_row(const RunData& run, const ChiTable* table, bool extrapolate) {
   const double nu = run.packing_fraction, e = run.restitution, T = c.temperature;
   if (table) {
     if (!table->covers(nu) && !extrapolate)
-      throw UsageError("'" + run.path + "': packing fraction " + number(nu) +
-                       " is outside the equilibrium table's range [" + number(table->min_nu()) + ", " +
-                       number(table->max_nu()) + "] (--extrapolate allows it)");
+      throw UsageError("'" + run.path + "': packing fraction " + format_number(nu) +
+                       " is outside the equilibrium table's range [" + format_number(table->min_nu()) + ", " +
+                       format_number(table->max_nu()) + "] (--extrapolate allows it)");
     const ChiValue chi = table->at(nu, extrapolate);
     row.chi = chi.chi;
     row.chi_error = chi.error;
@@ -391,7 +386,7 @@ Table analyse(const std::vector<std::string>& runs, const std::vector<std::strin
       const double e = o.parameters.get_double("restitution");
       if (e != 1 || o.rate != 0)
         throw UsageError("'" + equilibrium[i] + "': not an equilibrium run: " +
-                         (e != 1 ? "restitution " + number(e) : "sheared at rate " + number(o.rate)) +
+                         (e != 1 ? "restitution " + format_number(e) : "sheared at rate " + format_number(o.rate)) +
                          " (--equilibrium needs elastic runs, e = 1, at rate 0)");
     }
     const RunData run = read_run(equilibrium[i], settings, false);
@@ -413,9 +408,9 @@ Table analyse(const std::vector<std::string>& runs, const std::vector<std::strin
       const Opened o = open(path);
       const double nu = o.parameters.get_double("packing_fraction");
       if (!chi->covers(nu))
-        throw UsageError("'" + path + "': packing fraction " + number(nu) +
-                         " is outside the equilibrium table's range [" + number(chi->min_nu()) + ", " +
-                         number(chi->max_nu()) + "] (--extrapolate allows it)");
+        throw UsageError("'" + path + "': packing fraction " + format_number(nu) +
+                         " is outside the equilibrium table's range [" + format_number(chi->min_nu()) + ", " +
+                         format_number(chi->max_nu()) + "] (--extrapolate allows it)");
     }
   for (std::size_t i = 0; i < runs.size(); ++i) {
     status = "run " + std::to_string(i + 1) + "/" + std::to_string(runs.size());

@@ -1,4 +1,5 @@
 #include "shear/steady_window.hpp"
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,6 @@
 namespace granflow::shear_run {
 
 namespace {
-
-std::string number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", x);
-  return buffer;
-}
 
 template <class Read>
 auto observable_rows(const Opened& o, const std::string& path, const char* name, Read read) {
@@ -67,16 +62,17 @@ Window window(const Opened& o, const std::string& path, const WindowSettings& s)
     for (std::size_t r = 0; r < rows && first == rows; ++r)
       if (std::fabs(o.strain[r]) >= from - 1e-9) first = r;
     if (first == rows)
-      throw UsageError("'" + path + "': --from-strain " + number(from) +
-                       " is past the end of the run (last row at strain " + number(std::fabs(o.strain.back())) + ")");
+      throw UsageError("'" + path + "': --from-strain " + format_number(from) +
+                       " is past the end of the run (last row at strain " + format_number(std::fabs(o.strain.back())) +
+                       ")");
   } else {
     double from = s.from_time >= 0 ? s.from_time : 0.5 * o.time.back();
     if (transient < rows) from = std::max(from, o.time[transient]);
     for (std::size_t r = 0; r < rows && first == rows; ++r)
       if (o.time[r] >= from * (1 - 1e-12)) first = r;
     if (first == rows)
-      throw UsageError("'" + path + "': --from-time " + number(from) +
-                       " is past the end of the run (last row at time " + number(o.time.back()) + ")");
+      throw UsageError("'" + path + "': --from-time " + format_number(from) +
+                       " is past the end of the run (last row at time " + format_number(o.time.back()) + ")");
   }
   if (rows - first < 2)
     throw UsageError("'" + path + "': fewer than 2 observable rows in the window; start it earlier");

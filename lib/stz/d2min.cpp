@@ -1,4 +1,5 @@
 #include "stz/d2min.hpp"
+#include "core/format.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -14,18 +15,13 @@ namespace granflow::stz {
 
 namespace {
 
-std::string str(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
 void check_box(const Box& box, const std::string& what) {
   if (!box.periodic_y) throw std::invalid_argument(what + ": the box is not periodic in y (D²min needs simple shear)");
   if (!(std::isfinite(box.lx) && box.lx > 0 && std::isfinite(box.ly) && box.ly > 0))
     throw std::invalid_argument(what + ": the box size must be positive and finite");
   if (!(std::isfinite(box.offset) && box.offset >= 0 && box.offset < box.lx))
-    throw std::invalid_argument(what + ": the Lees–Edwards offset " + str(box.offset) + " is not in [0, lx)");
+    throw std::invalid_argument(what + ": the Lees–Edwards offset " + format_number(box.offset, 17) +
+                                " is not in [0, lx)");
 }
 
 }  // namespace
@@ -33,8 +29,9 @@ void check_box(const Box& box, const std::string& what) {
 ReferenceBonds reference_bonds(const std::vector<Vec2>& positions, const Box& box, double cutoff) {
   check_box(box, "reference frame");
   if (!(std::isfinite(cutoff) && cutoff > 0 && cutoff < 0.5 * std::min(box.lx, box.ly)))
-    throw std::invalid_argument("cutoff " + str(cutoff) + " must be positive and below half the smaller box side (" +
-                                str(0.5 * std::min(box.lx, box.ly)) + ")");
+    throw std::invalid_argument("cutoff " + format_number(cutoff, 17) +
+                                " must be positive and below half the smaller box side (" +
+                                format_number(0.5 * std::min(box.lx, box.ly), 17) + ")");
   if (positions.size() > std::size_t(std::numeric_limits<std::int32_t>::max()))
     throw std::invalid_argument("too many grains");
   for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -163,9 +160,9 @@ Unwrapped unwrap_displacements(std::span<const StoredFrame> frames, double rate)
       const double expected = frames[f - 1].box.offset + rate * ly * (frames[f].time - frames[f - 1].time);
       const double miss = std::remainder(frames[f].box.offset - expected, lx);
       if (!(std::abs(miss) <= 1e-6 * lx))
-        throw std::invalid_argument(what + ": the Lees–Edwards offset " + str(frames[f].box.offset) +
-                                    " does not follow from the shear rate " + str(rate) + " (expected " +
-                                    str(expected - lx * std::floor(expected / lx)) + ")");
+        throw std::invalid_argument(what + ": the Lees–Edwards offset " + format_number(frames[f].box.offset, 17) +
+                                    " does not follow from the shear rate " + format_number(rate, 17) + " (expected " +
+                                    format_number(expected - lx * std::floor(expected / lx), 17) + ")");
     }
     for (std::size_t i = 0; i < n; ++i)
       if (!frames[f].position[i].allFinite())
@@ -187,8 +184,9 @@ Unwrapped unwrap_displacements(std::span<const StoredFrame> frames, double rate)
       const Vec2 next(x + lx * std::round((R[i].x() - x) / lx), r.y() + c * ly);
       if (!((next - R[i]).norm() < half_cell))
         throw std::invalid_argument("frame " + std::to_string(f) + ": grain " + std::to_string(i) + " moved by " +
-                                    str((next - R[i]).norm()) + " or more since frame " + std::to_string(f - 1) +
-                                    ", not less than half the cell (" + str(half_cell) +
+                                    format_number((next - R[i]).norm(), 17) + " or more since frame " +
+                                    std::to_string(f - 1) + ", not less than half the cell (" +
+                                    format_number(half_cell, 17) +
                                     "): its image is ambiguous; store frames more often");
       R[i] = next;
     }
