@@ -21,6 +21,8 @@ import sys
 # An option line of the --help text written by lib/core/cli: "  -o, --output <FILE>" or
 # "      --version"; descriptions follow on lines of their own.
 HELP_OPTION = re.compile(r"^\s+(?:-[A-Za-z0-9],\s+)?--([a-z0-9][a-z0-9-]*)(?=\s|$)")
+# A command line of a "Commands:" block: "  d2min    description".
+HELP_COMMAND = re.compile(r"^  ([a-z][a-z0-9-]*)\s{2,}\S")
 # A markdown link or image: [text](target) with an optional "title"; reference
 # definitions "[label]: target" are read separately.
 INLINE_LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\[\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
@@ -29,19 +31,46 @@ HEADING = re.compile(r"^\s{0,3}(#{1,6})\s+(.*?)\s*#*\s*$")
 SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*:")
 
 
-def help_options(program):
-    """Long option names that `program --help` lists, in order."""
+def help_text(command):
+    """The text `command --help` prints (command: the program, or the program and a command of it)."""
+    shown = " ".join(os.path.basename(c) for c in command)
     try:
-        result = subprocess.run([program, "--help"], capture_output=True, text=True, timeout=60)
+        result = subprocess.run(command + ["--help"], capture_output=True, text=True, timeout=60)
     except OSError as e:
-        raise SystemExit(f"check_docs.py: cannot run '{program} --help': {e}")
+        raise SystemExit(f"check_docs.py: cannot run '{shown} --help': {e}")
     if result.returncode != 0:
-        raise SystemExit(f"check_docs.py: '{program} --help' exited with {result.returncode}: {result.stderr.strip()}")
+        raise SystemExit(f"check_docs.py: '{shown} --help' exited with {result.returncode}: {result.stderr.strip()}")
+    return result.stdout
+
+
+def help_commands(text):
+    """The commands a --help text lists in its "Commands:" block ("  NAME   description" lines)."""
+    names, inside = [], False
+    for line in text.splitlines():
+        if line.strip() == "Commands:":
+            inside = True
+            continue
+        if inside:
+            m = HELP_COMMAND.match(line)
+            if m:
+                names.append(m.group(1))
+            elif not line.startswith("   "):
+                inside = False
+    return names
+
+
+def help_options(program):
+    """Long option names that `program --help` lists, in order, and those of each command it
+    lists (`program COMMAND --help`), with the commands."""
+    text = help_text([program])
+    commands = help_commands(text)
+    texts = [text] + [help_text([program, c]) for c in commands]
     names = []
-    for line in result.stdout.splitlines():
-        m = HELP_OPTION.match(line)
-        if m and m.group(1) not in names:
-            names.append(m.group(1))
+    for t in texts:
+        for line in t.splitlines():
+            m = HELP_OPTION.match(line)
+            if m and m.group(1) not in names:
+                names.append(m.group(1))
     if not names:
         raise SystemExit(f"check_docs.py: '{program} --help' lists no option; is it a granflow program?")
     return names
