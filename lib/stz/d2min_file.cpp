@@ -75,7 +75,15 @@ void check_branch(const io::TrajectoryReader& trajectory, std::size_t a, const i
       throw UsageError(not_branch + ": grain " + std::to_string(i) + " is elsewhere in its frame 0");
 }
 
-StoredFrame stored(const io::Frame& frame) { return StoredFrame{frame.position, frame.box, frame.time}; }
+// The box as D²min reads it: an offset stored as exactly L_x is the offset 0. gf-shear's
+// Box::shift_offset stores it so when a negative rate brings the offset back to 0 from above
+// and round-off leaves it a hair below 0 (fmod, then + L_x); the images are the same.
+Box normalised(Box box) {
+  if (box.periodic_y && box.offset == box.lx) box.offset = 0;
+  return box;
+}
+
+StoredFrame stored(const io::Frame& frame) { return StoredFrame{frame.position, normalised(frame.box), frame.time}; }
 
 }  // namespace
 
@@ -101,7 +109,7 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
   const std::size_t n = reference.position.size();
   out.radius = reader.grains().radius;
   out.reference_position = reference.position;
-  out.reference_box = reference.box;
+  out.reference_box = normalised(reference.box);
   out.reference_frame = std::int64_t(a);
   out.current_frame = std::int64_t(b);
   out.reference_time = reference.time;
@@ -139,11 +147,11 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
       out.current_time = source.frame(b).time;
     }
     out.offset_change = u.offset_change;
-    out.strain = u.offset_change / reference.box.ly;
+    out.strain = u.offset_change / out.reference_box.ly;
 
     ReferenceBonds bonds;
     try {
-      bonds = reference_bonds(reference.position, reference.box, out.cutoff);
+      bonds = reference_bonds(reference.position, out.reference_box, out.cutoff);
     } catch (const std::invalid_argument& e) {
       if (!(out.cutoff < 0.5 * std::min(reference.box.lx, reference.box.ly)))
         throw UsageError("option --cutoff: " + format_number(request.cutoff_diameters) + " mean diameters (" +
