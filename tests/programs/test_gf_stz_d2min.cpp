@@ -399,3 +399,149 @@ TEST(GfStzD2min, OutputHasTheDocumentedSchemaAndProvenance) {
     EXPECT_EQ(position[2 * i + 1], reference.position[i].y());
   }
 }
+
+namespace {
+
+// Element `flat` (row-major) of a dataset of doubles, overwritten in place.
+void poke(const std::string& path, const std::string& dataset, std::size_t flat, double value) {
+  io::File file = io::open_file(path, true);
+  io::Dataset d = io::open_dataset(file.get(), dataset);
+  std::vector<double> all = io::read_all<double>(d.get());
+  ASSERT_LT(flat, all.size()) << dataset;
+  all[flat] = value;
+  ASSERT_GE(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), 0) << dataset;
+}
+
+// Inputs of the refusals, made once: the runs above, damaged copies of them, other files.
+struct BadSources {
+  ScratchDir dir{"d2min_bad_sources"};
+  std::string run, branch, other_branch, moved, other_radii, nan_frame, truncated, text, table, incline_run, existing;
+  BadSources() {
+    run = every_step_run();
+    branch = backward_branch();
+    // A branch of another run (the long one), from its frame 3.
+    other_branch = dir / "other_branch.h5";
+    EXPECT_EQ(
+        run_tool("gf-shear", "-i " + long_run() + " --frame 3 --strain 0.003 --strain-step 1e-3 -q -o " + other_branch)
+            .exit_code,
+        0);
+    const std::size_t n = 200;
+    // The branch with grain 5 moved in its frame 0, and with grain 3's radius changed.
+    moved = dir / "moved.h5";
+    std::filesystem::copy_file(branch, moved);
+    poke(moved, "/particles/grains/position/value", 2 * 5,
+         io::TrajectoryReader(branch).frame(0).position[5].x() + 1e-9);
+    other_radii = dir / "other_radii.h5";
+    std::filesystem::copy_file(branch, other_radii);
+    poke(other_radii, "/particles/grains/radius", 3, 1.01 * io::TrajectoryReader(branch).grains().radius[3]);
+    // The run with a NaN position in frame 10, between the frames compared.
+    nan_frame = dir / "nan_frame.h5";
+    std::filesystem::copy_file(run, nan_frame);
+    poke(nan_frame, "/particles/grains/position/value", 2 * (10 * n + 5), std::numeric_limits<double>::quiet_NaN());
+    truncated = dir / "truncated.h5";
+    {
+      std::ifstream in(run, std::ios::binary);
+      std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    }
+    text = dir / "text.h5";
+    std::ofstream(text) << "not a trajectory\n";
+    // An HDF5 file of another schema: a gf-stz d2min output.
+    table = dir / "table.h5";
+    EXPECT_EQ(run_tool("gf-stz", "d2min -i " + run + " --frames 0 1 -q -o " + table).exit_code, 0);
+    const std::string incline = dir / "incline.h5";
+    incline_run = dir / "incline_run.h5";
+    EXPECT_EQ(run_tool("gf-pack", "--incline --width 10 --height 5 --seed 3 --quiet -o " + incline).exit_code, 0);
+    EXPECT_EQ(run_tool("gf-incline", "-i " + incline + " -o " + incline_run +
+                                         " --angle 20 --steps 40 --profile-block 20 --frame-every 20 --quiet")
+                  .exit_code,
+              0);
+    existing = dir / "existing.h5";
+    std::ofstream(existing) << "a previous output\n";
+  }
+};
+
+const BadSources& bad_sources() {
+  static BadSources s;
+  return s;
+}
+
+std::vector<std::pair<std::string, std::string>> bad_values() {
+  const BadSources& s = bad_sources();
+  return {{"{run}", s.run},
+          {"{branch}", s.branch},
+          {"{other_branch}", s.other_branch},
+          {"{moved}", s.moved},
+          {"{other_radii}", s.other_radii},
+          {"{nan_frame}", s.nan_frame},
+          {"{truncated}", s.truncated},
+          {"{text}", s.text},
+          {"{table}", s.table},
+          {"{incline}", s.incline_run},
+          {"{existing}", s.existing},
+          {"{pack}", dense_packing()}};
+}
+
+class GfStzD2minBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(GfStzD2minBadInput, RefusedWithExitTwoAndNothingLeft) {
+  expect_refused("gf-stz", GetParam(), bad_values(), " -q");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, GfStzD2minBadInput,
+    ::testing::Values(
+        BadInput{"frame_out_of_range", "d2min -i {run} --frames 0 51 -o {out}", "--frames: "},
+        BadInput{"negative_frame_out_of_range", "d2min -i {run} --frames -52 0 -o {out}", "frame -52 is out of range"},
+        BadInput{"branch_frame_out_of_range", "d2min -i {run} --frames 20 31 --branch {branch} -o {out}",
+                 "frame 31 is out of range"},
+        BadInput{"reference_frame_out_of_range_with_branch", "d2min -i {run} --frames 51 0 --branch {branch} -o {out}",
+                 "frame 51 is out of range"},
+        BadInput{"branch_of_another_run", "d2min -i {run} --frames 3 -1 --branch {other_branch} -o {out}",
+                 "it started from another file"},
+        BadInput{"branch_of_another_frame", "d2min -i {run} --frames 10 -1 --branch {branch} -o {out}",
+                 "it started from frame 20"},
+        BadInput{"branch_frame_zero_differs", "d2min -i {run} --frames 20 -1 --branch {moved} -o {out}",
+                 "grain 5 is elsewhere in its frame 0"},
+        BadInput{"branch_of_other_grains", "d2min -i {run} --frames 20 -1 --branch {other_radii} -o {out}",
+                 "not the same grains"},
+        BadInput{"branch_is_a_packing", "d2min -i {run} --frames 0 0 --branch {pack} -o {out}", "is a packing"},
+        BadInput{"trajectory_is_a_packing", "d2min -i {pack} --frames 0 0 -o {out}", "is a packing"},
+        BadInput{"trajectory_is_an_incline_run", "d2min -i {incline} --frames 0 1 -o {out}", "incline_run.h5"},
+        BadInput{"nan_position_between_the_frames", "d2min -i {nan_frame} --frames 0 20 -o {out}", "grain 5"},
+        BadInput{"missing_file", "d2min -i {out}.missing --frames 0 1 -o {out}", "missing"},
+        BadInput{"missing_branch", "d2min -i {run} --frames 20 1 --branch {out}.missing -o {out}", "missing"},
+        BadInput{"truncated_file", "d2min -i {truncated} --frames 0 1 -o {out}", "truncated.h5"},
+        BadInput{"not_hdf5", "d2min -i {text} --frames 0 1 -o {out}", "text.h5"},
+        BadInput{"wrong_schema", "d2min -i {table} --frames 0 1 -o {out}", "table.h5"},
+        BadInput{"one_frame", "d2min -i {run} --frames 0 -o {out}", "--frames"},
+        BadInput{"three_frames", "d2min -i {run} --frames 0,1,2 -o {out}", "--frames"},
+        BadInput{"frame_not_a_number", "d2min -i {run} --frames 0,b -o {out}", "--frames"},
+        BadInput{"no_frames", "d2min -i {run} -o {out}", "--frames"},
+        BadInput{"no_input", "d2min --frames 0 1 -o {out}", "--input"},
+        BadInput{"no_output", "d2min -i {run} --frames 0 1", "--output"},
+        BadInput{"cutoff_zero", "d2min -i {run} --frames 0 1 --cutoff 0 -o {out}", "--cutoff"},
+        BadInput{"cutoff_negative", "d2min -i {run} --frames 0 1 --cutoff -1 -o {out}", "--cutoff"},
+        BadInput{"cutoff_past_half_the_box", "d2min -i {run} --frames 0 1 --cutoff 8 -o {out}", "--cutoff"},
+        BadInput{"unknown_option", "d2min -i {run} --frames 0 1 -o {out} --bogus", "--bogus"},
+        BadInput{"output_is_the_trajectory", "d2min -i {run} --frames 0 1 -o {run}", "--output"},
+        BadInput{"output_is_the_branch", "d2min -i {run} --frames 20 1 --branch {branch} -o {branch}", "--output"},
+        BadInput{"existing_output_untouched", "d2min -i {pack} --frames 0 0 -o {existing}", "is a packing"}),
+    bad_input_name);
+
+// The same commands with good inputs are accepted: the refusals are about what was changed.
+TEST(GfStzD2minBadInputControl, GoodInputsAreAccepted) {
+  const BadSources& s = bad_sources();
+  ScratchDir dir("d2min_control");
+  for (const std::string& args : {"-i " + s.run + " --frames 0 50", "-i " + s.run + " --frames -51 0",
+                                  "-i " + s.run + " --frames 20 30 --branch " + s.branch,
+                                  "-i " + s.run + " --frames 20 -1 --branch " + s.branch + " --cutoff 1.2",
+                                  "-i " + s.run + " --frames=-1 -2", "-i " + s.run + " --frames=0,1"}) {
+    SCOPED_TRACE(args);
+    const ToolResult r = run_tool("gf-stz", "d2min " + args + " -q -o " + (dir / "out.h5"));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::filesystem::remove(dir / "out.h5");
+  }
+}
+
+}  // namespace
