@@ -128,6 +128,7 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
   Progress bar("gf-stz d2min", double(last - first + 1), request.quiet);
   io::Frame frame = branch ? source.frame(0) : (first == a ? reference : reader.frame(first));
   if (branch) check_branch(reader, a, reference, source, frame);
+  const double first_time = frame.time;
   try {
     Unwrapper unwrapper(stored(frame), rate, name(first));
     bar.update(1);
@@ -144,7 +145,7 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
       // Unwrapped from B forwards to A: the map from A back to B is the opposite motion.
       for (Vec2& d : u.displacement) d = -d;
       u.offset_change = -u.offset_change;
-      out.current_time = source.frame(b).time;
+      out.current_time = first_time;
     }
     out.offset_change = u.offset_change;
     out.strain = u.offset_change / out.reference_box.ly;

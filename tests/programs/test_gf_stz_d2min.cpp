@@ -234,6 +234,8 @@ TEST(GfStzD2min, AgreesWithBruteForceOverAllImagesForwardsAndBackwards) {
     const auto [u, dd] = followed(run, c.a, c.b);
     expect_matches(out, brute_force(*c.reference, u, dd, cutoff));
     EXPECT_NEAR(double_attribute(out, "/d2min", "offset_change"), dd, 1e-12 * c.reference->box.lx);
+    EXPECT_EQ(double_attribute(out, "/d2min", "reference_time"), io::TrajectoryReader(run).frame(c.a).time);
+    EXPECT_EQ(double_attribute(out, "/d2min", "current_time"), io::TrajectoryReader(run).frame(c.b).time);
     std::filesystem::remove(out);
   }
 }

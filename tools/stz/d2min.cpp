@@ -2,6 +2,7 @@
 // trajectory, or between a frame of it and a frame of a branch started from that frame
 // (lib/stz/d2min_file.hpp).
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -106,21 +107,19 @@ int d2min_command(int argc, char** argv) {
   stz::write_d2min(out.temp_path(), result, parameters);
   out.commit();
 
-  if (!request.quiet)
-    std::fprintf(
-        stderr,
-        "gf-stz d2min: %s frame %lld -> %s frame %lld: strain %.6g, %lld of %zu grains valid, mean D2min "
-        "per neighbour %.6g (cutoff %.4g)\n",
-        request.trajectory.c_str(), (long long)result.reference_frame,
-        (request.branch.empty() ? request.trajectory : request.branch).c_str(), (long long)result.current_frame,
-        result.strain, (long long)result.valid_count, result.reference_position.size(),
-        [&] {
-          double s = 0;
-          for (std::size_t i = 0; i < result.d2min.valid.size(); ++i)
-            if (result.d2min.valid[i]) s += result.d2min.per_neighbour[i];
-          return result.valid_count ? s / double(result.valid_count) : 0.0;
-        }(),
-        result.cutoff);
+  if (!request.quiet) {
+    double sum = 0;
+    for (std::size_t i = 0; i < result.d2min.valid.size(); ++i)
+      if (result.d2min.valid[i]) sum += result.d2min.per_neighbour[i];
+    const double mean = result.valid_count ? sum / double(result.valid_count) : NAN;
+    std::fprintf(stderr,
+                 "gf-stz d2min: %s frame %lld -> %s frame %lld: strain %.6g, %lld of %zu grains valid, mean D2min "
+                 "per neighbour %.6g (cutoff %.4g)\n",
+                 request.trajectory.c_str(), (long long)result.reference_frame,
+                 (request.branch.empty() ? request.trajectory : request.branch).c_str(),
+                 (long long)result.current_frame, result.strain, (long long)result.valid_count,
+                 result.reference_position.size(), mean, result.cutoff);
+  }
   return 0;
 }
 
