@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "neighbours/cell_list.hpp"
 
@@ -139,68 +140,83 @@ D2min compute_d2min(const std::vector<Vec2>& reference, const Box& box, const st
   return compute_d2min(reference_bonds(reference, box, cutoff), displacement, offset_change);
 }
 
-Unwrapped unwrap_displacements(std::span<const StoredFrame> frames, double rate) {
-  if (frames.empty()) throw std::invalid_argument("no frames to unwrap");
+Unwrapper::Unwrapper(const StoredFrame& first, double rate, std::string name)
+    : first_(first.position.begin(), first.position.end()), unwrapped_(first_), first_box_(first.box),
+      last_box_(first.box), rate_(rate), first_time_(first.time), last_time_(first.time), last_name_(std::move(name)) {
   if (!std::isfinite(rate)) throw std::invalid_argument("the shear rate is not finite");
-  const StoredFrame& first = frames.front();
-  const std::size_t n = first.position.size();
-  const double lx = first.box.lx, ly = first.box.ly;
-  for (std::size_t f = 0; f < frames.size(); ++f) {
-    const std::string what = "frame " + std::to_string(f);
-    check_box(frames[f].box, what);
-    if (frames[f].position.size() != n)
-      throw std::invalid_argument(what + " has " + std::to_string(frames[f].position.size()) + " grains, frame 0 has " +
-                                  std::to_string(n));
-    if (frames[f].box.lx != lx || frames[f].box.ly != ly)
-      throw std::invalid_argument(what + ": the box size differs from frame 0's");
-    if (!std::isfinite(frames[f].time)) throw std::invalid_argument(what + ": the time is not finite");
-    if (f > 0) {
-      if (frames[f].time < frames[f - 1].time) throw std::invalid_argument(what + ": the time decreases");
-      // The stored offset must be the previous one advanced by γ̇·ly·Δt, modulo lx.
-      const double expected = frames[f - 1].box.offset + rate * ly * (frames[f].time - frames[f - 1].time);
-      const double miss = std::remainder(frames[f].box.offset - expected, lx);
-      if (!(std::abs(miss) <= 1e-6 * lx))
-        throw std::invalid_argument(what + ": the Lees–Edwards offset " + format_number(frames[f].box.offset, 17) +
-                                    " does not follow from the shear rate " + format_number(rate, 17) + " (expected " +
-                                    format_number(expected - lx * std::floor(expected / lx), 17) + ")");
-    }
-    for (std::size_t i = 0; i < n; ++i)
-      if (!frames[f].position[i].allFinite())
-        throw std::invalid_argument(what + ": the position of grain " + std::to_string(i) + " is not finite");
-  }
+  check_box(first.box, last_name_);
+  if (!std::isfinite(first.time)) throw std::invalid_argument(last_name_ + ": the time is not finite");
+  for (std::size_t i = 0; i < first_.size(); ++i)
+    if (!first_[i].allFinite())
+      throw std::invalid_argument(last_name_ + ": the position of grain " + std::to_string(i) + " is not finite");
+}
+
+void Unwrapper::add(const StoredFrame& frame, std::string name) {
+  const std::size_t n = first_.size();
+  const double lx = first_box_.lx, ly = first_box_.ly;
+  check_box(frame.box, name);
+  if (frame.position.size() != n)
+    throw std::invalid_argument(name + " has " + std::to_string(frame.position.size()) +
+                                " grains, the first frame has " + std::to_string(n));
+  if (frame.box.lx != lx || frame.box.ly != ly)
+    throw std::invalid_argument(name + ": the box size differs from the first frame's");
+  if (!std::isfinite(frame.time)) throw std::invalid_argument(name + ": the time is not finite");
+  if (frame.time < last_time_) throw std::invalid_argument(name + ": the time decreases");
+  // The stored offset must be the previous one advanced by γ̇·ly·Δt, modulo lx.
+  const double expected = last_box_.offset + rate_ * ly * (frame.time - last_time_);
+  const double miss = std::remainder(frame.box.offset - expected, lx);
+  if (!(std::abs(miss) <= 1e-6 * lx))
+    throw std::invalid_argument(name + ": the Lees–Edwards offset " + format_number(frame.box.offset, 17) +
+                                " does not follow from the shear rate " + format_number(rate_, 17) + " (expected " +
+                                format_number(expected - lx * std::floor(expected / lx), 17) + ")");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!frame.position[i].allFinite())
+      throw std::invalid_argument(name + ": the position of grain " + std::to_string(i) + " is not finite");
 
   // Unwrapped positions R: a stored r is R − c·(offset, ly) − m·lx for the grain's image
   // counters (c, m); from frame to frame the nearest such image of the new r continues R.
   // It is the true one whenever the grain moved by less than half of min(lx, ly), since
-  // two images differ by at least min(lx, ly).
+  // two images differ by at least min(lx, ly). All grains are checked before any moves, so
+  // that a refused frame leaves the state as it was.
   const double half_cell = 0.5 * std::min(lx, ly);
-  std::vector<Vec2> R(first.position.begin(), first.position.end());
-  for (std::size_t f = 1; f < frames.size(); ++f) {
-    const StoredFrame& frame = frames[f];
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2& r = frame.position[i];
-      const double c = std::round((R[i].y() - r.y()) / ly);
-      const double x = r.x() + c * frame.box.offset;
-      const Vec2 next(x + lx * std::round((R[i].x() - x) / lx), r.y() + c * ly);
-      if (!((next - R[i]).norm() < half_cell))
-        throw std::invalid_argument("frame " + std::to_string(f) + ": grain " + std::to_string(i) + " moved by " +
-                                    format_number((next - R[i]).norm(), 17) + " or more since frame " +
-                                    std::to_string(f - 1) + ", not less than half the cell (" +
-                                    format_number(half_cell, 17) +
-                                    "): its image is ambiguous; store frames more often");
-      R[i] = next;
-    }
+  std::vector<Vec2> next(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& r = frame.position[i];
+    const Vec2& R = unwrapped_[i];
+    const double c = std::round((R.y() - r.y()) / ly);
+    const double x = r.x() + c * frame.box.offset;
+    next[i] = Vec2(x + lx * std::round((R.x() - x) / lx), r.y() + c * ly);
+    if (!((next[i] - R).norm() < half_cell))
+      throw std::invalid_argument(name + ": grain " + std::to_string(i) + " moved by " +
+                                  format_number((next[i] - R).norm(), 17) + " or more since " + last_name_ +
+                                  ", not less than half the cell (" + format_number(half_cell, 17) +
+                                  "): its image is ambiguous; store frames more often");
   }
+  unwrapped_.swap(next);
+  last_box_ = frame.box;
+  last_time_ = frame.time;
+  last_name_ = std::move(name);
+  ++frames_;
+}
 
+Unwrapped Unwrapper::result() const {
   Unwrapped out;
-  out.displacement.resize(n);
-  for (std::size_t i = 0; i < n; ++i) out.displacement[i] = R[i] - Vec2(first.position[i]);
+  out.displacement.resize(first_.size());
+  for (std::size_t i = 0; i < first_.size(); ++i) out.displacement[i] = unwrapped_[i] - first_[i];
   // The images of the last frame were placed with its stored offset: Δδ must agree with the
   // stored offsets modulo lx exactly, and the rate fixes the number of whole turns.
-  const double stored = frames.back().box.offset - first.box.offset;
-  const double drift = rate * ly * (frames.back().time - first.time);
+  const double lx = first_box_.lx;
+  const double stored = last_box_.offset - first_box_.offset;
+  const double drift = rate_ * first_box_.ly * (last_time_ - first_time_);
   out.offset_change = stored + lx * std::round((drift - stored) / lx);
   return out;
+}
+
+Unwrapped unwrap_displacements(std::span<const StoredFrame> frames, double rate) {
+  if (frames.empty()) throw std::invalid_argument("no frames to unwrap");
+  Unwrapper unwrapper(frames.front(), rate);
+  for (std::size_t f = 1; f < frames.size(); ++f) unwrapper.add(frames[f], "frame " + std::to_string(f));
+  return unwrapper.result();
 }
 
 }  // namespace granflow::stz

@@ -11,6 +11,7 @@
 // then harmless.
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/vec.hpp"
@@ -79,5 +80,26 @@ struct Unwrapped {
 // consecutive frames, by at least half of min(lx, ly) (its image would be ambiguous; a
 // jump that aliases to a shorter one cannot be seen: store frames often enough).
 Unwrapped unwrap_displacements(std::span<const StoredFrame> frames, double rate);
+
+// The same, one frame at a time, so that a long sequence of frames is read and unwrapped in
+// memory O(N) (gf-stz d2min reads every stored frame between the two it compares). Each
+// frame is checked against the first and the previous one as above, and is named in the
+// messages by `name` (e.g. "'run.h5' frame 12"). The frame's positions are copied: the
+// caller may reuse their storage.
+class Unwrapper {
+ public:
+  Unwrapper(const StoredFrame& first, double rate, std::string name = "frame 0");
+  void add(const StoredFrame& frame, std::string name);
+  // Displacements from the first frame to the last one added, and Δδ between them.
+  Unwrapped result() const;
+  std::size_t frames() const { return frames_; }
+
+ private:
+  std::vector<Vec2> first_, unwrapped_;
+  Box first_box_, last_box_;
+  double rate_ = 0, first_time_ = 0, last_time_ = 0;
+  std::string last_name_;
+  std::size_t frames_ = 1;
+};
 
 }  // namespace granflow::stz
