@@ -63,7 +63,9 @@ struct Box {
   // Advances the image offset by du (= γ̇·Ly·dt), wrapped into [0, lx).
   void shift_offset(double du) {
     offset = std::fmod(offset + du, lx);
+    // A hair below 0 plus lx rounds to lx itself, outside the range: that offset is 0.
     if (offset < 0) offset += lx;
+    if (offset >= lx) offset = 0;
   }
 };
 

@@ -75,9 +75,9 @@ void check_branch(const io::TrajectoryReader& trajectory, std::size_t a, const i
       throw UsageError(not_branch + ": grain " + std::to_string(i) + " is elsewhere in its frame 0");
 }
 
-// The box as D²min reads it: an offset stored as exactly L_x is the offset 0. gf-shear's
-// Box::shift_offset stores it so when a negative rate brings the offset back to 0 from above
-// and round-off leaves it a hair below 0 (fmod, then + L_x); the images are the same.
+// The box as D²min reads it: an offset stored as exactly L_x is the offset 0 (the same
+// images). A wrap computed as "a hair below 0, plus L_x" rounds to L_x; Box::shift_offset
+// stores 0 there, but a file from another writer may hold it.
 Box normalised(Box box) {
   if (box.periodic_y && box.offset == box.lx) box.offset = 0;
   return box;

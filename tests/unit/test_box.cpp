@@ -65,3 +65,23 @@ TEST(LeesEdwardsBox, WrappedImageIsTheSamePoint) {
     ASSERT_NEAR((box.minimum_image(a - b) - before).norm(), 0, 1e-9);
   }
 }
+
+// A negative rate that brings the offset back to 0 from above leaves it a hair below 0 after
+// round-off; the wrapped offset must still lie in [0, lx) (the file format's range), not at lx.
+TEST(LeesEdwardsBox, ShiftedOffsetStaysBelowLx) {
+  const double lx = 19.371860602357876;
+  for (double start : {1e-3, 0.1, 3.7, lx - 1e-12}) {
+    for (double tiny : {1e-18, 1e-17, 1e-16, 1e-15, 0.0}) {
+      Box box{lx, 14.0, true, start};
+      box.shift_offset(-start - tiny);
+      ASSERT_GE(box.offset, 0.0) << "start " << start << " tiny " << tiny;
+      ASSERT_LT(box.offset, lx) << "start " << start << " tiny " << tiny;
+    }
+  }
+  Box box{lx, 14.0, true, 0.0};
+  for (int k = 0; k < 100000; ++k) {
+    box.shift_offset(-1e-3 * 14.0 * 0.37);
+    ASSERT_GE(box.offset, 0.0) << "step " << k;
+    ASSERT_LT(box.offset, lx) << "step " << k;
+  }
+}
