@@ -75,7 +75,13 @@ def read_map(path):
     except OSError as exc:
         raise ValueError(f"cannot open as HDF5 ({exc})") from exc
     with f:
-        for name in ("d2min/per_neighbour", "d2min/valid", "d2min/neighbours", "reference/position", "reference/radius"):
+        for name in (
+            "d2min/per_neighbour",
+            "d2min/valid",
+            "d2min/neighbours",
+            "reference/position",
+            "reference/radius",
+        ):
             if name not in f:
                 raise ValueError(f"no /{name}: not a gf-stz d2min output")
         d, ref = f["d2min"], f["reference"]

@@ -15,9 +15,10 @@ import numpy as np
 
 import synthetic  # a sibling module: the tests' own fixtures
 
+from analysis import d2min_maps
+from granflow_py import stz_table as st
+
 PIPELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-sys.path.insert(0, os.path.join(PIPELINES, "analysis"))
-import d2min_maps  # noqa: E402
 
 NAN = float("nan")
 BOX = (10.0, 10.0)
@@ -98,6 +99,139 @@ def write_d2min(path, black, strain=0.05, offset=3.0, positions=POSITIONS, inval
         r["radius"] = np.full(n, 0.5 * mean_diameter)
         r.attrs["box"] = np.array(BOX) * mean_diameter
         r.attrs["offset"] = offset * mean_diameter
+
+
+def tan_theta_star(kappa, zeta):
+    """The root of ζ t tanh(κt) = 1 by bisection (eq. 6.35)."""
+    lo, hi = 0.0, 10.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if zeta * mid * math.tanh(kappa * mid) < 1 else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+# The fits of the synthetic table: μ = 0 at (A, κ, ζ) = (1, 5, 5), μ = 0.4 at (2, 3, 10).
+FITS = {0.0: (1.0, 5.0, 5.0), 0.4: (2.0, 3.0, 10.0)}
+RUN_COLUMNS = (
+    "friction restitution packing_fraction rate_R_over_sqrt_T rate_R_over_sqrt_T_error s_over_p s_over_p_error "
+    "inertial_number inertial_number_error xi_ratio prediction residual prediction_mu_of_I residual_mu_of_I"
+).split()
+
+
+def fit_rows(d):
+    """Rows of /runs: μ = 0 e = 0 dense (fitted, on the curve), one dilute e = 0 run, e = 0.5 runs
+    0.01 above the curve, μ = 0.4 e = 0 fitted, and one incline point per μ 0.02 below."""
+    rows = []
+
+    def row(kind, mu, e, nu, s_over_p, offset, dense, fitted, name):
+        A, kappa, zeta = FITS[mu]
+        x = float(st.stz_rate(A, kappa, zeta, s_over_p))
+        rows.append(
+            dict(
+                input=os.path.join(d, name),
+                input_sha256="0" * 64,
+                kind=kind,
+                friction=mu,
+                restitution=e,
+                packing_fraction=nu,
+                rate_R_over_sqrt_T=x,
+                rate_R_over_sqrt_T_error=0.01 * x,
+                s_over_p=s_over_p + offset,
+                s_over_p_error=0.002,
+                inertial_number=0.5 * x,
+                inertial_number_error=0.005 * x,
+                xi_ratio=2.0 if dense else 1.1,
+                dense=dense,
+                fitted=fitted,
+                prediction=s_over_p,
+                residual=offset,
+                prediction_mu_of_I=s_over_p + 0.003,
+                residual_mu_of_I=offset - 0.003,
+            )
+        )
+
+    for nu, mu_value in zip((0.78, 0.79, 0.80, 0.81), (0.25, 0.29, 0.34, 0.44)):
+        row("shear", 0.0, 0.0, nu, mu_value, 0.0, 1, 1, f"shear_nu{nu:.3f}_e0.00_mu0.00_r1e-02_s1.h5")
+    row("shear", 0.0, 0.0, 0.5, 0.6, 0.05, 0, 0, "shear_nu0.500_e0.00_mu0.00_r1e-02_s1.h5")
+    for nu, mu_value in zip((0.79, 0.80), (0.27, 0.31)):
+        row("shear", 0.0, 0.5, nu, mu_value, 0.01, 1, 0, f"shear_nu{nu:.3f}_e0.50_mu0.00_r1e-02_s1.h5")
+    for nu, mu_value in zip((0.74, 0.76, 0.78), (0.3, 0.4, 0.5)):
+        row("shear", 0.4, 0.0, nu, mu_value, 0.0, 1, 1, f"shear_nu{nu:.3f}_e0.00_mu0.40_r1e-02_s1.h5")
+    row("incline", 0.0, 0.0, 0.81, 0.26, -0.02, 1, 0, "incline_th14_e0.00_mu0.00_s1.h5")
+    row("incline", 0.4, 0.0, 0.79, 0.36, -0.02, 1, 0, "incline_branch_th20_e0.00_mu0.40_s1_from14.h5")
+    return rows
+
+
+def write_fit(path, rows):
+    """A gf-stz fit output (contract schema) with the fits of FITS and the given /runs rows."""
+    with h5py.File(path, "w") as f:
+        f.create_group("parameters").attrs.update({"program": "gf-stz", "command": "fit"})
+        g = f.create_group("runs")
+        for name in ("input", "input_sha256", "kind"):
+            g.create_dataset(name, data=np.array([r[name] for r in rows], dtype=object), dtype=h5py.string_dtype())
+        for name in RUN_COLUMNS:
+            g[name] = np.array([r[name] for r in rows], dtype=float)
+        for name in ("dense", "fitted"):
+            g[name] = np.array([r[name] for r in rows], dtype=np.uint8)
+        fit = f.create_group("fit")
+        fit.attrs.update(
+            {
+                "objective": "least-squares",
+                "fit_restitution": 0.0,
+                "dense_rule": "xi_ratio >= 1.25",
+                "theta_star_units": "degrees",
+            }
+        )
+        mus = sorted(FITS)
+        t = [tan_theta_star(FITS[m][1], FITS[m][2]) for m in mus]
+        columns = {
+            "friction": mus,
+            "A": [FITS[m][0] for m in mus],
+            "A_error": [0.1, 0.2],
+            "kappa": [FITS[m][1] for m in mus],
+            "kappa_error": [0.2, 0.3],
+            "zeta": [FITS[m][2] for m in mus],
+            "zeta_error": [0.5, 1.0],
+            "tan_theta_star": t,
+            "tan_theta_star_error": [0.004, 0.005],
+            "theta_star": [math.degrees(math.atan(v)) for v in t],
+            "theta_star_error": [0.2, 0.3],
+            "chi2": [2.0, 1.0],
+            "mu_s": [0.2, 0.18],
+            "mu_s_error": [0.01, 0.02],
+            "mu_2": [0.6, 0.7],
+            "mu_2_error": [0.05, 0.06],
+            "I0": [0.3, 0.4],
+            "I0_error": [0.03, 0.04],
+            "stz_rms": [0.001, 0.002],
+            "mu_of_I_rms": [0.003, 0.001],
+            "predicted_rms": [0.01, NAN],
+            "incline_rms": [0.02, 0.02],
+            "mu_of_I_predicted_rms": [0.007, NAN],
+            "mu_of_I_incline_rms": [0.023, 0.023],
+        }
+        for name, values in columns.items():
+            fit[name] = np.array(values, dtype=float)
+        fit["points"] = np.array([4, 3], dtype=np.int64)
+        fit["dof"] = np.array([1, 0], dtype=np.int64)
+        fit["predicted_count"] = np.array([3, 0], dtype=np.int64)
+        fit["incline_count"] = np.array([1, 1], dtype=np.int64)
+    return path
+
+
+def write_critical(path, theta_c=11.5, half=0.5, restitution=0.5):
+    """The parts of a critical_angle.py table the report reads."""
+    with h5py.File(path, "w") as f:
+        f.create_group("parameters").attrs["program"] = "critical_angle.py"
+        g = f.create_group("runs")
+        g["angle"] = np.array([11.0, 12.0])
+        g["friction"] = np.array([0.0, 0.0])
+        g["restitution"] = np.array([restitution, restitution])
+        c = f.create_group("critical_angle")
+        c.attrs.update(
+            {"theta_c": theta_c, "theta_below": theta_c - half, "theta_above": theta_c + half, "half_width": half}
+        )
+    return path
 
 
 def run_maps(*args):
@@ -255,6 +389,122 @@ class MapsRefusals(unittest.TestCase):
             write_d2min(a, BLACK_A)
             self.assertIn("--threshold", self.refused([a], "--threshold", "0"))
             self.assertIn("--start-strain", self.refused([a], "--start-strain", "0,0.1"))
+
+
+class FitTableAndCurve(unittest.TestCase):
+    def test_curve_starts_at_tan_theta_star_and_follows_eq_6_36(self):
+        with tempfile.TemporaryDirectory() as d:
+            table = st.read_table(write_fit(os.path.join(d, "fit.h5"), fit_rows(d)))
+            row = st.fit_row(table, 0.0)
+            x, mu = st.curve(table, row, 4.6365)
+            self.assertEqual(x[0], 0.0)
+            self.assertAlmostEqual(mu[0], 0.23994, places=5)
+            # Known values of (1, 5, 5) (REFERENCES.md): x(0.54) = 4.6365 is the last point.
+            self.assertAlmostEqual(float(np.interp(2.3797, x, mu)), 0.44, places=3)
+            self.assertLessEqual(x[-1], 4.6365)
+            self.assertGreater(mu[-1], 0.53)
+            self.assertIsNone(st.fit_row(table, 0.1))
+
+    def test_not_a_fit_table(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "x.h5")
+            with h5py.File(path, "w") as f:
+                f.create_group("runs")
+            with self.assertRaises(SystemExit) as cm:
+                st.read_table(path)
+            self.assertIn("x.h5", str(cm.exception))
+
+
+class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
+    """The figure script draws the three figures and report.py writes both sections with the
+    tables' numbers."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        d = cls.tmp.name
+        cls.fit = write_fit(os.path.join(d, "ch6_stz.h5"), fit_rows(d))
+        cls.critical = write_critical(os.path.join(d, "critical.h5"))
+        inputs = [os.path.join(d, f"map_{k}.h5") for k in "abcd"]
+        write_d2min(inputs[0], BLACK_A)
+        write_d2min(inputs[1], [3, 4, 5, 11, 12])
+        write_d2min(inputs[2], BLACK_A + [11], strain=0.15)
+        write_d2min(inputs[3], [12, 13], strain=-0.05)
+        cls.maps = os.path.join(d, "maps.h5")
+        res = run_maps("--start-strain", "0,0.1,0,0", "-o", cls.maps, *inputs)
+        if res.returncode != 0:
+            raise AssertionError(res.stderr)
+        packing = synthetic.write_packing(os.path.join(d, "pack.h5"))
+        out = os.path.join(d, "REPORT.md")
+        res = subprocess.run(
+            [
+                sys.executable,
+                os.path.join(PIPELINES, "report.py"),
+                "--size",
+                "test",
+                "--output",
+                out,
+                "--ch6-stz",
+                cls.fit,
+                "--ch6-d2min",
+                cls.maps,
+                packing,
+            ],
+            capture_output=True,
+            text=True,
+        )
+        cls.report = f"report.py failed:\n{res.stderr}"
+        if res.returncode == 0:
+            with open(out) as fh:
+                cls.report = fh.read()
+        # The same with the critical-angle table (it needs the incline table beside it: the
+        # section function is called directly instead).
+        import report  # noqa: E402  (pipelines/ is on the path of these tests)
+
+        cls.with_critical = "\n".join(report.ch6_stz_section(cls.fit, cls.critical))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_figures(self):
+        for figure, source in (("6.9", self.maps), ("6.10", self.fit), ("6.11", self.fit)):
+            out = os.path.join(self.tmp.name, f"fig{figure.replace('.', '_')}.png")
+            with self.subTest(figure=figure):
+                self.run_script("plot/ch6_stz.py", "--figure", figure, source, out)
+                with open(out, "rb") as fh:
+                    self.assertEqual(fh.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_d2min_section(self):
+        r = self.report
+        self.assertIn("## Chapter 6: non-affine motion, D²min (thesis §6.3, Fig. 6.9)", r)
+        # Map a: 8 of 15 valid grains black, 4 clusters, the largest of 3, sizes 1×1, 2×2, 1×3.
+        self.assertIn("| (a) | 0 → 0.05 | 16 (15) | 53.3 % | 4 | 3 | 2 | 1×1, 2×2, 1×3 | 0.0 % – 60.0 % |", r)
+        self.assertIn("| (b) | 0.1 → 0.15 | 16 (15) | 33.3 % |", r)
+        # Jaccard a-b = 3/10, chance pq/(p + q − pq) with p = 8/15, q = 5/15 (= 0.2581).
+        self.assertIn("| a-b | 0.3 | 0.258 | 1.16 |", r)
+        self.assertIn("| a-c | 0.889 |", r)
+        self.assertIn("| a-d | 0 |", r)
+
+    def test_stz_section(self):
+        r = self.report
+        self.assertIn("## Chapter 6: the STZ constitutive law (thesis §6.3, Figs 6.10–6.11)", r)
+        self.assertIn("| 0 | 4 | 1 ± 0.1 | 5 ± 0.2 | 5 ± 0.5 | 0.24 ± 0.004 | 13.5 ± 0.2 | 2/1 |", r)
+        self.assertIn("| 0.4 | 3 | 2 ± 0.2 | 3 ± 0.3 | 10 ± 1 | 0.192 ± 0.005 |", r)
+        self.assertIn("| 0 | 0.001 | 0.003 | STZ | 0.01 (3) | 0.007 (3) | 0.02 (1) | 0.023 (1) |", r)
+        self.assertIn("| 0.4 | 0.002 | 0.001 | μ(I) | – (0) |", r)
+        self.assertIn("| `incline_th14_e0.00_mu0.00_s1.h5` | 0 | 0 |", r)
+        self.assertIn("| 0.26 | -0.02 | -0.023 |", r)
+        self.assertNotIn("critical angle", r)
+
+    def test_theta_star_against_critical_angle(self):
+        theta = math.degrees(math.atan(tan_theta_star(5.0, 5.0)))
+        self.assertIn(
+            f"θ* (μ = 0) = {theta:.3g} ± 0.2° against the incline's critical angle θ_c = 11.5° ± 0.5°",
+            self.with_critical,
+        )
+        self.assertIn(f"difference {theta - 11.5:.3g}°", self.with_critical)
+        self.assertIn("Note: the critical-angle sweep is at e = 0.5, the fit at e = 0.", self.with_critical)
 
 
 if __name__ == "__main__":
