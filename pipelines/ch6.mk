@@ -217,7 +217,7 @@ CH6_STZ_TABLE       := $(RUNS)/ch6_stz.h5
 CH6_STZ_DENSE       := $(if $(CH6_STZ_CORRELATION),--correlation $(CH6_STZ_CORRELATION),--min-packing-fraction $(CH6_STZ_MIN_NU))
 CH6_STZ_FIGURES     := $(foreach k,9 10 11,$(FIGURES)/fig6_$(k).png)
 CH6_FIGURES         += $(CH6_STZ_FIGURES)
-CH6_STZ_PLOT        := pipelines/plot/ch6_stz.py $(CH6_ANALYSIS)
+CH6_STZ_PLOT        := pipelines/plot/ch6_stz.py pipelines/analysis/d2min_maps.py $(CH6_ANALYSIS)
 
 ch6-files: $(CH6_STZ_FIGURES) $(CH6_D2MIN_TABLE) $(CH6_STZ_TABLE)
 
