@@ -56,14 +56,14 @@ BLACK_A = [0, 1, 2, 3, 4, 5, 6, 7]
 
 def write_d2min(path, black, strain=0.05, offset=3.0, positions=POSITIONS, invalid=(9,), mean_diameter=1.0):
     """A gf-stz d2min output (contract schema): grains of `black` get a D²min per neighbour of
-    1e-2 ⟨d⟩², the others 1e-4 ⟨d⟩² (grain 10: a sum of 1 over 1000 neighbours), `invalid` NaN and
-    valid 0."""
+    4e-2 ⟨d⟩², the others 4e-4 ⟨d⟩² (grain 10: 4e-3, a sum of 4 over 1000 neighbours), `invalid`
+    NaN and valid 0 (the default threshold is 1e-2 ⟨d⟩²)."""
     n = len(positions)
     neighbours = np.full(n, 6, dtype=np.int32)
-    per = np.full(n, 1e-4 * mean_diameter**2)
-    per[list(black)] = 1e-2 * mean_diameter**2
+    per = np.full(n, 4e-4 * mean_diameter**2)
+    per[list(black)] = 4e-2 * mean_diameter**2
     neighbours[10] = 1000
-    per[10] = 1e-3 * mean_diameter**2
+    per[10] = 4e-3 * mean_diameter**2
     valid = np.ones(n, dtype=np.uint8)
     valid[list(invalid)] = 0
     per[list(invalid)] = NAN
@@ -267,7 +267,7 @@ class MapsKnownAnswers(unittest.TestCase):
         np.testing.assert_allclose(default["black_fraction"], np.array([8, 5, 9, 2]) / 15, rtol=1e-15)
         black = self.table["maps"]["black"]
         self.assertEqual(list(np.flatnonzero(black[0])), BLACK_A)
-        # Grain 10: a sum of 1 (large) but 1e-3 ⟨d⟩² per neighbour, below 2.5e-3: not black.
+        # Grain 10: a sum of 4 (large) but 4e-3 ⟨d⟩² per neighbour, below 1e-2: not black.
         self.assertFalse(black[0][10])
 
     def test_clusters_across_both_boundaries(self):
@@ -301,10 +301,10 @@ class MapsKnownAnswers(unittest.TestCase):
         sweep = self.table["sweep"]
         t = sweep["threshold"]
         self.assertEqual(len(t), 9)
-        np.testing.assert_allclose(t[[0, 4, 8]], [2.5e-4, 2.5e-3, 2.5e-2], rtol=1e-12)
+        np.testing.assert_allclose(t[[0, 4, 8]], [1e-3, 1e-2, 1e-1], rtol=1e-12)
         frac = sweep["black_fraction"]
         np.testing.assert_allclose(frac[:, 4], self.table["default"]["black_fraction"], rtol=1e-15)
-        # At 2.5e-4 ⟨d⟩² grain 10 (1e-3 per neighbour) is black in every map too; above 1e-2 none is.
+        # At 1e-3 ⟨d⟩² grain 10 (4e-3 per neighbour) is black in every map too; at 1e-1 none is.
         np.testing.assert_allclose(frac[:, 0], np.array([9, 6, 10, 3]) / 15, rtol=1e-15)
         np.testing.assert_allclose(frac[:, 8], [0.0, 0.0, 0.0, 0.0])
         self.assertTrue(np.all(np.isnan(sweep["jaccard"][:, 8])))
