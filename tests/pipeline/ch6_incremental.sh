@@ -110,11 +110,11 @@ for k, strain, source, reference in (("a", 0.05, "branch", last), ("b", 0.05, "t
 with h5py.File("runs/test/ch6_d2min_maps.h5", "r") as f:
     assert list(f["/maps/start_strain"][...]) == [0, 0.1, 0, 0]
     assert f["/default/jaccard"].shape == (3,)
-# The fit: the μ = 0 runs of test.mk's STZ grid (3 ν × 2 e) and the μ = 0.4 runs (3 ν, e = 0), a
+# The fit: the μ = 0 runs of test.mk's STZ grid (5 ν × 2 e) and the μ = 0.4 runs (4 ν, e = 0), a
 # fit per μ, and the e = 0 incline rows of ch6_incline.h5.
 with h5py.File("runs/test/ch6_stz.h5", "r") as f:
     kind = [v.decode() if isinstance(v, bytes) else v for v in f["/runs/kind"][...]]
-    assert kind.count("shear") == 9, kind
+    assert kind.count("shear") == 14, kind
     assert sorted(float(m) for m in f["/fit/friction"][...]) == [0.0, 0.4], f["/fit/friction"][...]
 with h5py.File("runs/test/ch6_incline.h5", "r") as f:
     assert list(f["/runs/restitution"][...]) == [0.0, 0.0], f["/runs/restitution"][...]
