@@ -5,6 +5,7 @@ report section's numbers. Inputs are laid out as the issue-23 contract says (wri
 write_fit)."""
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -505,6 +506,94 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
         )
         self.assertIn(f"difference {theta - 11.5:.3g}°", self.with_critical)
         self.assertIn("Note: the critical-angle sweep is at e = 0.5, the fit at e = 0.", self.with_critical)
+
+
+ROOT = os.path.abspath(os.path.join(PIPELINES, ".."))
+
+
+class Ch6StzMake(unittest.TestCase):
+    """The STZ part of pipelines/ch6.mk, dry run at SIZE=test with stamps present: the branches'
+    commands, the maps' frames computed from the strains, the fit's runs and incline table, the
+    figures and the report's arguments. Nothing is built or run."""
+
+    def dry_run(self, *targets, expect=0, **variables):
+        with tempfile.TemporaryDirectory() as d:
+            stamps = os.path.join(d, "build", "stamps")
+            os.makedirs(stamps)
+            for prog in ("gf-pack", "gf-shear", "gf-incline", "gf-stz", "gf-correlate", "libgranflow_statistics.so"):
+                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
+                    fh.write("0\n")
+            args = synthetic.scratch_make(d, "-n") + [f"{k}={v}" for k, v in variables.items()]
+            args += [t.replace("TMP", d) for t in targets]
+            res = subprocess.run(args, cwd=ROOT, capture_output=True, text=True)
+            self.assertEqual(res.returncode, expect, res.stderr)
+            return re.sub(r"[ \t]+", " ", (res.stdout + res.stderr).replace(d, "TMP").replace("\\\n", " "))
+
+    def test_maps_and_branches(self):
+        out = self.dry_run("ch6-files")
+        stem = "nu0.700_e0.00_mu0.00_r1e-02_s1.h5"
+        for name, rate, strain in (("forward", "1e-02", "0.15"), ("backward", "-1e-02", "0.05")):
+            self.assertIn(
+                f"gf-shear --quiet -i TMP/runs/shear_{stem} --frame -1 -o TMP/runs/d2min_{name}_{stem} --rate {rate} "
+                f"--restitution 0.00 --friction 0.00 --seed 1 --strain {strain} --strain-step 1e-3 --frame-every 10",
+                out,
+            )
+        d2min = "gf-stz d2min --quiet --cutoff 2 -o TMP/runs/ch6_d2min_"
+        # A frame every 10 steps of 1e-3: strain 0.05 is frame 5, 0.10 frame 10, 0.15 frame 15.
+        self.assertIn(f"{d2min}a.h5 -i TMP/runs/shear_{stem} --branch TMP/runs/d2min_forward_{stem} --frames -1,5", out)
+        self.assertIn(f"{d2min}b.h5 -i TMP/runs/d2min_forward_{stem} --frames 10,15", out)
+        self.assertIn(
+            f"{d2min}c.h5 -i TMP/runs/shear_{stem} --branch TMP/runs/d2min_forward_{stem} --frames -1,15", out
+        )
+        self.assertIn(
+            f"{d2min}d.h5 -i TMP/runs/shear_{stem} --branch TMP/runs/d2min_backward_{stem} --frames -1,5", out
+        )
+        self.assertRegex(
+            out,
+            r"d2min_maps\.py --start-strain 0,0\.1,0,0 -o TMP/runs/ch6_d2min_maps\.h5 "
+            r"TMP/runs/ch6_d2min_a\.h5 TMP/runs/ch6_d2min_b\.h5 TMP/runs/ch6_d2min_c\.h5 TMP/runs/ch6_d2min_d\.h5",
+        )
+        for k in (9, 10, 11):
+            self.assertIn(f"ch6_stz.py --figure 6.{k} ", out)
+
+    def test_fit_runs_and_incline(self):
+        out = self.dry_run("ch6-files")
+        # e = 0 incline runs: μ = 0 from the pack, μ = 0.4 branched from it.
+        self.assertIn("-o TMP/runs/incline_th20_e0.00_mu0.00_s1.h5 --angle 20 --restitution 0.00 --friction 0.00", out)
+        self.assertIn(
+            "gf-incline --quiet -i TMP/runs/incline_th20_e0.00_mu0.00_s1.h5 -o "
+            "TMP/runs/incline_branch_th30_e0.00_mu0.40_s1_from20.h5 --angle 30 --restitution 0.00 --friction 0.40",
+            out,
+        )
+        self.assertRegex(
+            out,
+            r"incline_bulk\.py --base-skip 1 --surface-skip 1 -o TMP/runs/ch6_incline\.h5 "
+            r"TMP/runs/incline_th20_e0\.00_mu0\.00_s1\.h5 TMP/runs/incline_branch_th30_e0\.00_mu0\.40_s1_from20\.h5",
+        )
+        prefix = (
+            "gf-stz fit --quiet -o TMP/runs/ch6_stz.h5 --min-packing-fraction 0.6 --incline TMP/runs/ch6_incline.h5 "
+            "--from-strain 0.05 --detect-transient "
+        )
+        self.assertIn(prefix, out)
+        args = out[out.index(prefix) + len(prefix) :].split("\n")[0].split()
+        runs = [os.path.basename(a) for a in args]
+        expected = [
+            f"shear_nu{nu}_e{e}_mu0.00_r1e-02_s1.h5"
+            for e in ("0.00", "0.92")
+            for nu in ("0.700", "0.740", "0.760", "0.780", "0.800")
+        ]
+        expected += [f"shear_nu{nu}_e0.00_mu0.40_r1e-02_s1.h5" for nu in ("0.600", "0.700", "0.740", "0.760")]
+        self.assertEqual(runs, expected)
+        out = self.dry_run("TMP/figures/REPORT.md")
+        self.assertRegex(out, r"report\.py .*--ch6-stz TMP/runs/ch6_stz\.h5 --ch6-d2min TMP/runs/ch6_d2min_maps\.h5")
+
+    def test_correlation_table_when_given(self):
+        out = self.dry_run("ch6-files", CH6_STZ_CORRELATION="$(RUNS)/ch5_correlate.h5")
+        self.assertRegex(out, r"gf-stz fit --quiet -o TMP/runs/ch6_stz\.h5 --correlation TMP/runs/ch5_correlate\.h5 ")
+
+    def test_strain_not_a_whole_number_of_frames(self):
+        out = self.dry_run("ch6-files", expect=2, CH6_STZ_FRAME_EVERY=7)
+        self.assertIn("strain 0.05 is not a whole number of frames of 7 steps of 1e-3", out)
 
 
 if __name__ == "__main__":
