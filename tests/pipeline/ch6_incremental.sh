@@ -149,9 +149,9 @@ remakes() {
   done <<<"$before"
 }
 simulations='bin/gf-(shear|pack|correlate|incline)|steady_state\.py|incline_bulk\.py|critical_angle\.py|plot/(ch[45]_|snapshot)'
-remakes gf-kinetic "ch6_kinetic.py report.py" "$simulations|bin/gf-(network|stz)|ch6_(network|stz)\.py|d2min_maps" \
+remakes gf-kinetic "ch6_kinetic.py report.py" "$simulations|bin/gf-(network|stz)|ch6_(network|stz)\.py|d2min_maps\.py" \
   runs/test/ch6_kinetic.h5 figures/fig6_1.png figures/fig6_3.png figures/REPORT.md
-remakes gf-network "ch6_network.py report.py" "$simulations|bin/gf-(kinetic|stz)|ch6_(kinetic|stz)\.py|d2min_maps" \
+remakes gf-network "ch6_network.py report.py" "$simulations|bin/gf-(kinetic|stz)|ch6_(kinetic|stz)\.py|d2min_maps\.py" \
   runs/test/ch6_network.h5 runs/test/ch6_network_halfstep.h5 figures/fig6_{5,6,7,8}.png figures/REPORT.md
 remakes gf-stz "d2min_maps.py ch6_stz.py report.py" "$simulations|bin/gf-(kinetic|network)|ch6_(kinetic|network)\.py" \
   runs/test/ch6_d2min_{a,b,c,d}.h5 runs/test/ch6_d2min_maps.h5 runs/test/ch6_stz.h5 figures/fig6_{9,10,11}.png \
