@@ -571,7 +571,7 @@ class Ch6StzMake(unittest.TestCase):
             r"TMP/runs/incline_th20_e0\.00_mu0\.00_s1\.h5 TMP/runs/incline_branch_th30_e0\.00_mu0\.40_s1_from20\.h5",
         )
         prefix = (
-            "gf-stz fit --quiet -o TMP/runs/ch6_stz.h5 --min-packing-fraction 0.6 --incline TMP/runs/ch6_incline.h5 "
+            "gf-stz fit --quiet -o TMP/runs/ch6_stz.h5 --min-packing-fraction 0.55 --incline TMP/runs/ch6_incline.h5 "
             "--from-strain 0.05 --detect-transient "
         )
         self.assertIn(prefix, out)
