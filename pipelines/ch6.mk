@@ -142,3 +142,123 @@ $(FIGURES)/fig6_7.png: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP) $(CH6_NETWOR
 
 $(FIGURES)/REPORT.md: $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP)
 REPORT_ARGS += --ch6-network $(CH6_NETWORK_TABLE) $(if $(CH6_NETWORK_HALFSTEP),--ch6-network-halfstep $(CH6_NETWORK_HALFSTEP))
+
+# ---------------------------------------------------------------- STZ: non-affine motion and the law
+# Thesis §6.3, Figs 6.9-6.11 (gf-stz, docs/programs/gf-stz.md; docs/method/stz.md).
+# Fig. 6.9: from the last frame of the steady dense run $(CH6_STZ_PARENT) (ν = CH6_STZ_NU,
+# e = CH6_STZ_E, μ = 0 at CH5_RATE: a run of the chapter-5 grid, no new long run), two gf-shear
+# branches at SHEAR_STRAIN_STEP with a frame every CH6_STZ_FRAME_EVERY steps:
+# $(RUNS)/d2min_forward_nu<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>.h5 at +γ̇ for strain CH6_STZ_FORWARD and
+# $(RUNS)/d2min_backward_....h5 at −γ̇ for strain CH6_STZ_INTERVAL (any such name can be asked
+# for: the parent is the shear run of the same stem). Maps (gf-stz d2min, neighbours within
+# CH6_STZ_CUTOFF mean diameters): $(RUNS)/ch6_d2min_a.h5 strain 0 → CH6_STZ_INTERVAL, _b.h5
+# CH6_STZ_FORWARD − CH6_STZ_INTERVAL → CH6_STZ_FORWARD (both frames of the forward branch), _c.h5
+# 0 → CH6_STZ_FORWARD, _d.h5 0 → −CH6_STZ_INTERVAL; a, c, d take the parent's last frame as the
+# reference and the branch's frame (--branch). Numbers: $(RUNS)/ch6_d2min_maps.h5
+# (pipelines/analysis/d2min_maps.py: black fraction, clusters, Jaccard overlaps of a with b, c, d
+# and their chance values, at CH6_STZ_THRESHOLD and over a sweep of thresholds). Figure
+# $(FIGURES)/fig6_9.png.
+# Fit (Figs 6.10, 6.11): $(RUNS)/ch6_stz.h5, gf-stz fit over the μ = 0 runs at every e of
+# CH6_STZ_FIT_E and ν of CH6_STZ_FIT_NU and the μ = 0.4 runs at e = CH5_FRICTION_E over
+# CH6_STZ_FRICTION_NU (by default the chapter-5 grids, CH5_E × CH5_NU and CH5_FRICTION_NU), the
+# window rule of the other chapter-6 tables (--from-strain CH6_FROM_STRAIN --detect-transient);
+# dense = ξ/ξ_el ≥ 1.25 from CH6_STZ_CORRELATION (gf-correlate's chapter-5 table), or, when that is
+# empty, ν ≥ CH6_STZ_MIN_NU; the incline points (never fitted) from $(RUNS)/ch6_incline.h5, the
+# incline-bulk table of the e = CH6_INCLINE_E runs at CH6_INCLINE_ANGLES_MU0 (μ = 0, from the
+# incline pack, ch4_incline.mk's run rule) and CH6_INCLINE_ANGLES_MU04 (μ = 0.4, branched from
+# the μ = 0 run at CH6_INCLINE_MU04_PARENT, ch4_incline.mk's branch rule): the incline settings
+# (INCLINE_WIDTH, INCLINE_TIME, INCLINE_BRANCH_TIME, ...) are chapter 4's. Figures
+# $(FIGURES)/fig6_10.png (μ = 0, every e) and fig6_11.png (μ = 0 and 0.4, e = 0, shear and
+# incline): pipelines/plot/ch6_stz.py. A change of gf-stz's code redoes the maps, the fit, their
+# analysis, Figs 6.9-6.11 and the report, never a simulation.
+CH6_STZ_E           ?= 0.00
+CH6_STZ_CUTOFF      ?= 2
+CH6_STZ_FIT_NU      ?= $(CH5_NU)
+CH6_STZ_FIT_E       ?= $(CH5_E)
+CH6_STZ_FRICTION_NU ?= $(CH5_FRICTION_NU)
+CH6_STZ_CORRELATION ?= $(RUNS)/ch5_correlate.h5
+CH6_STZ_MIN_NU      ?=
+CH6_INCLINE_E       ?= 0.00
+# d2min_maps.py's default threshold when empty.
+CH6_STZ_THRESHOLD   ?=
+# gf-stz fit's settings beyond its defaults (e.g. --objective orthogonal).
+CH6_STZ_FIT_ARGS    ?=
+# d2min_maps.py's settings beyond the threshold (e.g. --gap 0.2).
+CH6_STZ_MAPS_ARGS   ?=
+
+CH6_STZ_STEM        := nu$(CH6_STZ_NU)_e$(CH6_STZ_E)_mu0.00_r$(CH5_RATE)_s$(CH5_SEED)
+CH6_STZ_PARENT      := $(RUNS)/shear_$(CH6_STZ_STEM).h5
+CH6_STZ_FORWARD_RUN := $(RUNS)/d2min_forward_$(CH6_STZ_STEM).h5
+CH6_STZ_BACKWARD_RUN := $(RUNS)/d2min_backward_$(CH6_STZ_STEM).h5
+# The frame of a branch at strain $(1) from its start: strain / (SHEAR_STRAIN_STEP ·
+# CH6_STZ_FRAME_EVERY), which must be a whole number (else make stops here, naming the strain).
+ch6_stz_frame = $(or $(shell awk 'BEGIN { k = ($(1)) / ($(SHEAR_STRAIN_STEP) * $(CH6_STZ_FRAME_EVERY)); \
+                  r = int(k + 0.5); if (r >= 0 && k - r < 1e-6 && r - k < 1e-6) print r }'),\
+                  $(error strain $(1) is not a whole number of frames of $(CH6_STZ_FRAME_EVERY) steps of \
+                  $(SHEAR_STRAIN_STEP): change CH6_STZ_FRAME_EVERY))
+CH6_STZ_FRAME_INTERVAL := $(call ch6_stz_frame,$(CH6_STZ_INTERVAL))
+CH6_STZ_FRAME_FORWARD  := $(call ch6_stz_frame,$(CH6_STZ_FORWARD))
+CH6_STZ_LATE_STRAIN    := $(shell awk 'BEGIN { printf "%.15g", $(CH6_STZ_FORWARD) - $(CH6_STZ_INTERVAL) }')
+CH6_STZ_FRAME_LATE     := $(call ch6_stz_frame,$(CH6_STZ_LATE_STRAIN))
+# The maps' frames come from the size file: a change there redoes them.
+CH6_STZ_SIZE        := pipelines/sizes/$(SIZE).mk
+CH6_D2MIN_MAPS      := $(foreach k,a b c d,$(RUNS)/ch6_d2min_$(k).h5)
+CH6_D2MIN_TABLE     := $(RUNS)/ch6_d2min_maps.h5
+CH6_STZ_FIT_RUNS    := $(foreach e,$(CH6_STZ_FIT_E),$(foreach nu,$(CH6_STZ_FIT_NU),\
+                         $(call shear_run,$(nu),$(e),0.00,$(CH5_RATE),$(CH5_SEED)))) \
+                       $(foreach nu,$(CH6_STZ_FRICTION_NU),$(call shear_run,$(nu),$(CH5_FRICTION_E),0.40,$(CH5_RATE),$(CH5_SEED)))
+# Recursive, and read through secondary expansion ($$): incline_run and incline_branch are
+# defined in ch4_incline.mk, included after this file.
+CH6_INCLINE_RUNS     = $(foreach th,$(CH6_INCLINE_ANGLES_MU0),$(call incline_run,$(th),$(CH6_INCLINE_E),0.00,$(INCLINE_SEED))) \
+                       $(foreach th,$(CH6_INCLINE_ANGLES_MU04),\
+                         $(call incline_branch,$(th),$(CH6_INCLINE_E),0.40,$(INCLINE_SEED),$(CH6_INCLINE_MU04_PARENT)))
+CH6_INCLINE_TABLE   := $(RUNS)/ch6_incline.h5
+CH6_STZ_TABLE       := $(RUNS)/ch6_stz.h5
+CH6_STZ_DENSE       := $(if $(CH6_STZ_CORRELATION),--correlation $(CH6_STZ_CORRELATION),--min-packing-fraction $(CH6_STZ_MIN_NU))
+CH6_STZ_FIGURES     := $(foreach k,9 10 11,$(FIGURES)/fig6_$(k).png)
+CH6_FIGURES         += $(CH6_STZ_FIGURES)
+CH6_STZ_PLOT        := pipelines/plot/ch6_stz.py pipelines/analysis/d2min_maps.py $(CH6_ANALYSIS)
+
+ch6-files: $(CH6_STZ_FIGURES) $(CH6_D2MIN_TABLE) $(CH6_STZ_TABLE)
+
+# Stem "<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>": from the last frame of the shear run of that stem, at +γ̇
+# (forward) or −γ̇ (backward).
+ch6_stz_branch = $(LAUNCH) $(BIN)/gf-shear --quiet -i $< --frame -1 -o $@ --rate $(1)$(call shear_arg,r,4,$*) \
+	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
+	  --seed $(call shear_arg,s,5,$*) --strain $(2) --strain-step $(SHEAR_STRAIN_STEP) \
+	  --frame-every $(CH6_STZ_FRAME_EVERY)
+$(RUNS)/d2min_forward_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(call ch6_stz_branch,,$(CH6_STZ_FORWARD))
+$(RUNS)/d2min_backward_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
+	$(call ch6_stz_branch,-,$(CH6_STZ_INTERVAL))
+
+ch6_d2min = $(LAUNCH) $(BIN)/gf-stz d2min --quiet --cutoff $(CH6_STZ_CUTOFF) -o $@
+$(RUNS)/ch6_d2min_a.h5: $(CH6_STZ_PARENT) $(CH6_STZ_FORWARD_RUN) $(STAMPS)/gf-stz.stamp $(CH6_STZ_SIZE) | $(RUNS)/
+	$(ch6_d2min) -i $(CH6_STZ_PARENT) --branch $(CH6_STZ_FORWARD_RUN) --frames -1,$(CH6_STZ_FRAME_INTERVAL)
+$(RUNS)/ch6_d2min_b.h5: $(CH6_STZ_FORWARD_RUN) $(STAMPS)/gf-stz.stamp $(CH6_STZ_SIZE) | $(RUNS)/
+	$(ch6_d2min) -i $(CH6_STZ_FORWARD_RUN) --frames $(CH6_STZ_FRAME_LATE),$(CH6_STZ_FRAME_FORWARD)
+$(RUNS)/ch6_d2min_c.h5: $(CH6_STZ_PARENT) $(CH6_STZ_FORWARD_RUN) $(STAMPS)/gf-stz.stamp $(CH6_STZ_SIZE) | $(RUNS)/
+	$(ch6_d2min) -i $(CH6_STZ_PARENT) --branch $(CH6_STZ_FORWARD_RUN) --frames -1,$(CH6_STZ_FRAME_FORWARD)
+$(RUNS)/ch6_d2min_d.h5: $(CH6_STZ_PARENT) $(CH6_STZ_BACKWARD_RUN) $(STAMPS)/gf-stz.stamp $(CH6_STZ_SIZE) | $(RUNS)/
+	$(ch6_d2min) -i $(CH6_STZ_PARENT) --branch $(CH6_STZ_BACKWARD_RUN) --frames -1,$(CH6_STZ_FRAME_INTERVAL)
+
+$(CH6_D2MIN_TABLE): $(CH6_D2MIN_MAPS) pipelines/analysis/d2min_maps.py $(CH6_ANALYSIS) | $(RUNS)/
+	$(PYTHON) pipelines/analysis/d2min_maps.py $(if $(CH6_STZ_THRESHOLD),--threshold $(CH6_STZ_THRESHOLD)) \
+	  $(CH6_STZ_MAPS_ARGS) --start-strain 0,$(CH6_STZ_LATE_STRAIN),0,0 -o $@ $(CH6_D2MIN_MAPS)
+
+$(CH6_INCLINE_TABLE): $$(CH6_INCLINE_RUNS) $$(INCLINE_ANALYSIS) | $(RUNS)/
+	$(PYTHON) pipelines/analysis/incline_bulk.py $(INCLINE_BULK_ARGS) -o $@ $(CH6_INCLINE_RUNS)
+
+$(CH6_STZ_TABLE): $(CH6_STZ_FIT_RUNS) $(CH6_STZ_CORRELATION) $(CH6_INCLINE_TABLE) $(STAMPS)/gf-stz.stamp \
+                  pipelines/sizes/$(SIZE).mk | $(RUNS)/
+	$(LAUNCH) $(BIN)/gf-stz fit --quiet -o $@ $(CH6_STZ_DENSE) \
+	  --incline $(CH6_INCLINE_TABLE) --from-strain $(CH6_FROM_STRAIN) --detect-transient $(CH6_STZ_FIT_ARGS) \
+	  $(CH6_STZ_FIT_RUNS)
+
+$(FIGURES)/fig6_9.png: $(CH6_D2MIN_TABLE) $(CH6_STZ_PLOT) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_stz.py --figure 6.9 $< $@
+$(FIGURES)/fig6_10.png $(FIGURES)/fig6_11.png: $(FIGURES)/fig6_%.png: $(CH6_STZ_TABLE) $(CH6_STZ_PLOT) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/ch6_stz.py --figure 6.$* $< $@
+
+$(FIGURES)/REPORT.md: $(CH6_STZ_TABLE) $(CH6_D2MIN_TABLE) pipelines/analysis/d2min_maps.py
+REPORT_ARGS += --ch6-stz $(CH6_STZ_TABLE) --ch6-d2min $(CH6_D2MIN_TABLE)

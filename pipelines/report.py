@@ -9,11 +9,13 @@ import h5py
 import numpy as np
 
 from analysis import critical_angle as ca
+from analysis import d2min_maps
 from analysis import incline_bulk as ib
 from analysis import steady_state as ss
 from granflow_py import correlation_table as ct
 from granflow_py import kinetic_table as kt
 from granflow_py import network_table as nt
+from granflow_py import stz_table as stz
 from granflow_py.outputs import atomic_output
 
 
@@ -1013,6 +1015,182 @@ def ch6_network_section(network_path, halfstep_path=None):
     return lines
 
 
+def ch6_d2min_section(maps_path):
+    """Chapter 6, Fig. 6.9: black fractions, clusters and overlaps of the D²min maps
+    (d2min_maps.py's table), at its default threshold and over its sweep."""
+    table = d2min_maps.read_table(maps_path)
+    maps, default, sweep, par = table["maps"], table["default"], table["sweep"], table["parameters"]
+    threshold = default["threshold"]
+    t = sweep["threshold"]
+    pct = lambda v: f"{100 * v:.1f} %" if math.isfinite(v) else "–"  # noqa: E731
+    lines = [
+        "",
+        "## Chapter 6: non-affine motion, D²min (thesis §6.3, Fig. 6.9)",
+        "",
+        f"Table `{maps_path}` from `pipelines/analysis/d2min_maps.py` over the gf-stz d2min maps "
+        + ", ".join(f"({lab}) `{inp}`" for lab, inp in zip(maps["label"], table["runs"]["input"]))
+        + f". Black: D²min per neighbour > {threshold:g} ⟨d⟩² (the sum over the neighbours within the "
+        "cutoff divided by their number; the thesis gives no value); clusters: black grains whose "
+        f"reference centres are closer than (R_i + R_j)(1 + {float(par['gap']):g}), Lees–Edwards minimum image. "
+        f"Sweep: {len(t)} thresholds from {t.min():.3g} to {t.max():.3g} ⟨d⟩².",
+        "",
+        quote(
+            "We notice that there is a tendency for the regions of non-affine displacement to form clusters, "
+            "and the size of the resulting non-affine regions is about the same in both (a) and (b).",
+            "1008",
+        ),
+        quote(
+            "comparing (a) and (d), we notice that the size of the non-affine regions is about the same in the "
+            "two figures, but the locations are different.",
+            "1015",
+        ),
+        f"| map | strain | grains (valid) | black at {threshold:g} | clusters | largest | mean size | "
+        "cluster sizes (count × size) | black over the sweep |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for k, label in enumerate(maps["label"]):
+        hist = default["cluster_size_histogram"][k]
+        sizes = ", ".join(f"{int(c)}×{s + 1}" for s, c in enumerate(hist) if c)
+        frac = sweep["black_fraction"][k]
+        lines.append(
+            f"| ({label}) | {maps['start_strain'][k]:g} → {maps['end_strain'][k]:g} | {int(maps['grains'][k])} "
+            f"({int(maps['valid_count'][k])}) | {pct(default['black_fraction'][k])} | "
+            f"{int(default['cluster_count'][k])} | {int(default['largest_cluster'][k])} | "
+            f"{stz.fmt(float(default['mean_cluster_size'][k]))} | {sizes or '–'} | "
+            f"{pct(np.nanmin(frac))} – {pct(np.nanmax(frac))} |"
+        )
+    lines += [
+        "",
+        "Overlap of the black sets, Jaccard index J = |A ∩ B|/|A ∪ B| over the grains valid in both, against "
+        "the value of two independent random sets of the same fractions (chance):",
+        "",
+        f"| pair | J at {threshold:g} | chance | J / chance | J over the sweep | J / chance over the sweep |",
+        "|---|---|---|---|---|---|",
+    ]
+    for p, pair in enumerate(default["pair"]):
+        j, c = float(default["jaccard"][p]), float(default["jaccard_chance"][p])
+        js, cs = sweep["jaccard"][p], sweep["jaccard_chance"][p]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = js / cs
+        finite = np.isfinite(js)
+        span = f"{np.min(js[finite]):.3f} – {np.max(js[finite]):.3f}" if finite.any() else "–"
+        rfinite = np.isfinite(ratio)
+        rspan = f"{np.min(ratio[rfinite]):.2f} – {np.max(ratio[rfinite]):.2f}" if rfinite.any() else "–"
+        lines.append(
+            f"| {pair} | {stz.fmt(j)} | {stz.fmt(c)} | {stz.fmt(j / c if c > 0 else math.nan)} | {span} | {rspan} |"
+        )
+    return lines
+
+
+def ch6_stz_section(fit_path, critical_path=None):
+    """Chapter 6, the STZ law (thesis §6.3, Figs 6.10, 6.11): gf-stz fit's coefficients per μ, θ*
+    against the incline's θ_c, the rms residuals of the fitted and predicted points, and the STZ law
+    against μ(I) (every number from the table)."""
+    table = stz.read_table(fit_path)
+    fit, attrs = table["fit"], table["fit_attrs"]
+    col = lambda n: stz.column(table, n, "fit")  # noqa: E731
+    runs_kind = stz.kinds(table)
+    lines = [
+        "",
+        "## Chapter 6: the STZ constitutive law (thesis §6.3, Figs 6.10–6.11)",
+        "",
+        f"Table `{fit_path}` (gf-stz fit): {len(runs_kind)} rows, {int(np.sum(runs_kind == 'shear'))} shear runs and "
+        f"{int(np.sum(runs_kind == 'incline'))} incline bulk points. Eq. 6.36, x = γ̇⟨R⟩/√T = A[sinh(κμ) − "
+        "cosh(κμ)/(ζμ)] with μ = s/p, fitted per friction coefficient on the shear runs at e = "
+        f"{stz.fit_restitution(table):g} that are dense ({attrs.get('dense_rule', '?')}), objective "
+        f"{attrs.get('objective', '?')}; tanθ* from eq. 6.35. μ(I) = μ_s + (μ₂ − μ_s)/(1 + I₀/I) fitted to the same "
+        "points. rms: root-mean-square residual in s/p; “predicted”: the shear runs of that μ not fitted (other "
+        "e, dilute), “incline”: the incline bulk points (never fitted).",
+        "",
+        quote(
+            "The line is the STZ prediction, which fits the data very well.",
+            "1055",
+        ),
+        quote("find that the incline flow data is predicted using the exact same coefficients!", "1077"),
+        "| μ | points | A | κ | ζ | tanθ* | θ* (°) | χ²/dof | μ_s | μ₂ | I₀ |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    pm = lambda n, r: stz.fmt_pm(col(n)[r], col(n + "_error")[r])  # noqa: E731
+    order = np.argsort(col("friction"))
+    for r in order:
+        dof = int(fit["dof"][r]) if "dof" in fit else 0
+        chi = f"{col('chi2')[r]:.3g}/{dof}" if math.isfinite(col("chi2")[r]) else "–"
+        lines.append(
+            f"| {col('friction')[r]:g} | {int(fit['points'][r]) if 'points' in fit else '–'} | {pm('A', r)} | "
+            f"{pm('kappa', r)} | {pm('zeta', r)} | {pm('tan_theta_star', r)} | {pm('theta_star', r)} | {chi} | "
+            f"{pm('mu_s', r)} | {pm('mu_2', r)} | {pm('I0', r)} |"
+        )
+    lines += [
+        "",
+        "rms residuals in s/p (count):",
+        "",
+        "| μ | STZ fitted | μ(I) fitted | better on the fitted points | STZ predicted | μ(I) predicted | "
+        "STZ incline | μ(I) incline |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in order:
+        a, b = col("stz_rms")[r], col("mu_of_I_rms")[r]
+        better = (
+            "–" if not (math.isfinite(a) and math.isfinite(b)) else ("STZ" if a < b else "μ(I)" if b < a else "equal")
+        )
+        pc = int(fit["predicted_count"][r]) if "predicted_count" in fit else 0
+        ic = int(fit["incline_count"][r]) if "incline_count" in fit else 0
+        lines.append(
+            f"| {col('friction')[r]:g} | {stz.fmt(a)} | {stz.fmt(b)} | {better} | {stz.fmt(col('predicted_rms')[r])} "
+            f"({pc}) | {stz.fmt(col('mu_of_I_predicted_rms')[r])} ({pc}) | {stz.fmt(col('incline_rms')[r])} ({ic}) | "
+            f"{stz.fmt(col('mu_of_I_incline_rms')[r])} ({ic}) |"
+        )
+    incline = np.flatnonzero(runs_kind == "incline")
+    if len(incline):
+        get = lambda n: stz.column(table, n)  # noqa: E731
+        lines += [
+            "",
+            "Incline bulk points against the shear fit of their μ:",
+            "",
+            "| input | μ | e | γ̇⟨R⟩/√T | s/p | STZ | residual | μ(I) residual |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
+        for r in incline:
+            lines.append(
+                f"| `{os.path.basename(str(table['runs']['input'][r]))}` | {get('friction')[r]:g} | "
+                f"{get('restitution')[r]:g} | {stz.fmt_pm(get('rate_R_over_sqrt_T')[r], get('rate_R_over_sqrt_T_error')[r])} "
+                f"| {stz.fmt_pm(get('s_over_p')[r], get('s_over_p_error')[r])} | {stz.fmt(get('prediction')[r])} | "
+                f"{stz.fmt(get('residual')[r])} | {stz.fmt(get('residual_mu_of_I')[r])} |"
+            )
+    if critical_path:
+        crit = ca.read_table(critical_path)
+        res, cr = crit["critical_angle"], crit["runs"]
+        theta_c, half = float(res["theta_c"]), float(res["half_width"])
+        e_c = float(cr["restitution"][0]) if len(cr["restitution"]) else math.nan
+        mu_c = float(cr["friction"][0]) if len(cr["friction"]) else math.nan
+        row = stz.fit_row(table, mu_c) if math.isfinite(mu_c) else None
+        lines += [
+            "",
+            quote(
+                "θ^* is identified as the repose angle of the granular material, whose value is predicted by STZ theory.",
+                "1045",
+            ),
+        ]
+        if row is None or not math.isfinite(theta_c):
+            lines.append(
+                f"θ* against the incline's critical angle: not compared (θ_c = {stz.fmt(theta_c)}°, μ = {stz.fmt(mu_c)}: "
+                "no fit of that μ or no θ_c)."
+            )
+        else:
+            ts, tse = col("theta_star")[row], col("theta_star_error")[row]
+            note = (
+                ""
+                if abs(e_c - stz.fit_restitution(table)) < 1e-9
+                else f" Note: the critical-angle sweep is at e = {e_c:g}, the fit at e = {stz.fit_restitution(table):g}."
+            )
+            lines.append(
+                f"θ* (μ = {mu_c:g}) = {stz.fmt_pm(ts, tse)}° against the incline's critical angle θ_c = {theta_c:g}° ± "
+                f"{half:g}° (`{critical_path}`, bracket ({float(res['theta_below']):g}°, {float(res['theta_above']):g}°]): "
+                f"difference {stz.fmt(ts - theta_c)}°.{note}"
+            )
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", required=True)
@@ -1027,6 +1205,8 @@ def main():
     ap.add_argument("--ch6-kinetic", help="gf-kinetic table of the chapter-6 runs (Figs 6.1-6.3)")
     ap.add_argument("--ch6-network", help="gf-network table of the chapter-6 runs (Figs 6.5-6.8)")
     ap.add_argument("--ch6-network-halfstep", help="gf-network table of the half-step runs and their pairs (Fig 6.7)")
+    ap.add_argument("--ch6-stz", help="gf-stz fit table (Figs 6.10-6.11)")
+    ap.add_argument("--ch6-d2min", help="d2min_maps.py table of the Fig. 6.9 maps")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
     ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
@@ -1060,6 +1240,10 @@ def main():
         lines += ch6_section(args.ch6_kinetic, args.ch5_correlate)
     if args.ch6_network:
         lines += ch6_network_section(args.ch6_network, args.ch6_network_halfstep)
+    if args.ch6_d2min:
+        lines += ch6_d2min_section(args.ch6_d2min)
+    if args.ch6_stz:
+        lines += ch6_stz_section(args.ch6_stz, args.ch4_critical)
     out = atomic_output(args.output)
     try:
         with open(out.name, "w") as fh:

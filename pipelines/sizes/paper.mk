@@ -97,3 +97,17 @@ INCLINE_FRAME_EVERY     := 50000
 INCLINE_CRITICAL_WINDOW := 300
 INCLINE_BASE_SKIP       := 3
 INCLINE_SURFACE_SKIP    := 8
+# Chapter 6, STZ (gf-stz): Fig. 6.9 from the last frame of the ν = 0.80, e = 0, μ = 0 run (N = 10⁴,
+# as the thesis' pictures), frames every strain 0.005; the fit over the chapter-5 grids, dense
+# by ξ/ξ_el ≥ 1.25; e = 0 incline points at three angles per μ, the μ = 0.4 ones branched from
+# the 14° μ = 0 run (not run at this size yet: the angles follow the quick size's flowing range).
+CH6_STZ_NU          := 0.800
+CH6_STZ_E           := 0.00
+CH6_STZ_INTERVAL    := 0.05
+CH6_STZ_FORWARD     := 0.15
+CH6_STZ_FRAME_EVERY := 5
+CH6_STZ_CUTOFF      := 2
+CH6_INCLINE_E           := 0.00
+CH6_INCLINE_ANGLES_MU0  := 10 12 14
+CH6_INCLINE_ANGLES_MU04 := 20 21 22
+CH6_INCLINE_MU04_PARENT := 14

@@ -100,3 +100,22 @@ INCLINE_FRAME_EVERY     := 10000
 INCLINE_CRITICAL_WINDOW := 200
 INCLINE_BASE_SKIP       := 3
 INCLINE_SURFACE_SKIP    := 8
+# Chapter 6, STZ (gf-stz). Fig. 6.9: D²min maps from the last frame (strain 5) of the ν = 0.80,
+# e = 0, μ = 0 run of the chapter-5 grid: dense (the thesis' STZ regime) yet below jamming
+# (ν_c ≈ 0.845), so it flows steadily; μ = 0 keeps the branches cheap, and e = 0 is the
+# restitution the law is fitted on. Branches at γ̇dt = SHEAR_STRAIN_STEP with a frame every 5
+# steps (strain 0.005): forward to strain 0.15 (maps a, b, c), backward to −0.05 (map d).
+CH6_STZ_NU          := 0.800
+CH6_STZ_E           := 0.00
+CH6_STZ_INTERVAL    := 0.05
+CH6_STZ_FORWARD     := 0.15
+CH6_STZ_FRAME_EVERY := 5
+CH6_STZ_CUTOFF      := 2
+# The fit: the chapter-5 grids (μ = 0: CH5_NU × CH5_E; μ = 0.4: CH5_FRICTION_NU at e = 0), dense by
+# ξ/ξ_el ≥ 1.25 from the chapter-5 table. Incline points (never fitted) at e = 0: μ = 0 at two
+# angles, μ = 0.4 at two angles branched from the 14° μ = 0 run (as few as carry the comparison;
+# the chapter-4 incline settings above). Cost: docs/results/chapter6.md, STZ.
+CH6_INCLINE_E           := 0.00
+CH6_INCLINE_ANGLES_MU0  := 12 14
+CH6_INCLINE_ANGLES_MU04 := 20 21
+CH6_INCLINE_MU04_PARENT := 14

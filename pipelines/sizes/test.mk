@@ -82,3 +82,26 @@ INCLINE_FRAME_EVERY     := 1000
 INCLINE_CRITICAL_WINDOW := 10
 INCLINE_BASE_SKIP       := 1
 INCLINE_SURFACE_SKIP    := 1
+# Chapter 6, STZ: maps from the ν = 0.7, e = 0 run (64 grains), the thesis' strains (150 steps),
+# a frame every 10 steps. The fit: 64-grain runs of strain 0.2 are noisy, and three points per μ
+# gave a μ(I) fit that does not converge; these grids (5 ν at μ = 0 for e = 0 and 0.92, 4 at
+# μ = 0.4) are ones whose STZ and μ(I) fits converge (their coefficients mean nothing), all
+# counted dense (ν ≥ 0.55, below the smallest ν: a 0.600 packing is 0.5999…; no correlation
+# table: ξ_el is not finite at 64 grains). μ = 0.4 stops at ν = 0.76: at 0.78 the 64-grain run
+# exceeds --max-unconverged. One e = 0 incline run per μ (the μ = 0.4 one branched from the
+# μ = 0 one), only to exercise the rules.
+CH6_STZ_NU          := 0.700
+CH6_STZ_E           := 0.00
+CH6_STZ_INTERVAL    := 0.05
+CH6_STZ_FORWARD     := 0.15
+CH6_STZ_FRAME_EVERY := 10
+CH6_STZ_CUTOFF      := 2
+CH6_STZ_FIT_NU      := 0.700 0.740 0.760 0.780 0.800
+CH6_STZ_FIT_E       := $(CH4_E)
+CH6_STZ_FRICTION_NU := 0.600 0.700 0.740 0.760
+CH6_STZ_CORRELATION :=
+CH6_STZ_MIN_NU      := 0.55
+CH6_INCLINE_E           := 0.00
+CH6_INCLINE_ANGLES_MU0  := 20
+CH6_INCLINE_ANGLES_MU04 := 30
+CH6_INCLINE_MU04_PARENT := 20
