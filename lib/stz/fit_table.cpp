@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <stdexcept>
@@ -126,6 +127,8 @@ FitRunRow read_shear_row(const std::string& path, const shear_run::WindowSetting
 
 std::vector<FitRunRow> read_incline_rows(const std::string& path) {
   auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw bad("no such file");
   io::silence_hdf5_errors();
 #if H5_VERSION_GE(1, 12, 0)
   const htri_t is_hdf5 = H5Fis_accessible(path.c_str(), H5P_DEFAULT);

@@ -427,6 +427,37 @@ TEST(GfStzFit, InclineRowsArePredictedNeverFitted) {
   EXPECT_EQ(string_attribute(out, "/parameters", "incline"), bulk);
 }
 
+TEST(GfStzFit, OrthogonalDistanceUsesBothErrors) {
+  std::vector<std::string> runs = e0_runs();
+  runs.push_back(reversed_run());
+  ScratchDir dir("stz_fit_odr");
+  const std::string out = dir / "fit.h5";
+  auto r = run_tool(
+      "gf-stz", "fit " + joined(runs) + "-o " + out + " --min-packing-fraction 0.77 --objective orthogonal --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(string_attribute(out, "/fit", "objective"), "orthogonal");
+  const auto x = read_doubles(out, "/runs/rate_R_over_sqrt_T"),
+             x_err = read_doubles(out, "/runs/rate_R_over_sqrt_T_error"), mu = read_doubles(out, "/runs/s_over_p"),
+             mu_err = read_doubles(out, "/runs/s_over_p_error");
+  const auto fitted = read_flags(out, "/runs/fitted");
+  std::vector<double> fx, fxe, fmu, fmue;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (fitted[k]) {
+      fx.push_back(x[k]);
+      fxe.push_back(x_err[k]);
+      fmu.push_back(mu[k]);
+      fmue.push_back(mu_err[k]);
+    }
+  ASSERT_EQ(fx.size(), 4u);
+  const stz::StzFit want = stz::fit_stz(fx, fmu, fmue, fxe, stz::StzObjective::orthogonal_distance);
+  const stz::StzCoefficients got = stz_of(out, 0);
+  EXPECT_EQ(got.A, want.value.A);
+  EXPECT_EQ(got.kappa, want.value.kappa);
+  EXPECT_EQ(got.zeta, want.value.zeta);
+  EXPECT_EQ(read_doubles(out, "/fit/zeta_error")[0], want.error.zeta);
+  expect_predictions(out);
+}
+
 class GfStzFitBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(GfStzFitBadInput, FailsWithExitTwoOneLineNoOutput) {
@@ -469,6 +500,17 @@ TEST_P(GfStzFitBadInput, FailsWithExitTwoOneLineNoOutput) {
     EXPECT_EQ(run_tool("gf-correlate", joined(runs) + "-o " + path + " --quiet").exit_code, 0);
     return path;
   }();
+  // An incline-bulk table whose /bulk columns are one row short of /runs.
+  static const std::string short_bulk = [&] {
+    const std::string path = dir / "short_bulk.h5";
+    write_incline_table(path, {{"a.h5", 0, 0, 0.8, 0.3, 0.01, 0.3, 0.01, 2, 0.1, 1},
+                               {"b.h5", 0, 0, 0.8, 0.4, 0.01, 0.35, 0.01, 2, 0.1, 1}});
+    io::File f = io::open_file(path, true);
+    H5Ldelete(f.get(), "/bulk/s_over_p", H5P_DEFAULT);
+    const double one = 0.3;
+    io::write_dataset<double>(f.get(), "/bulk/s_over_p", {1}, &one);
+    return path;
+  }();
   const std::string all = runs[0] + " " + runs[1] + " " + runs[2] + " " + runs[3];
   expect_refused("gf-stz", GetParam(),
                  {{"{all}", all},
@@ -479,6 +521,7 @@ TEST_P(GfStzFitBadInput, FailsWithExitTwoOneLineNoOutput) {
                   {"{unsheared}", unsheared},
                   {"{other}", other},
                   {"{noref}", noref},
+                  {"{short}", short_bulk},
                   {"{pack}", packing("0.80")}},
                  " --quiet");
 }
@@ -509,6 +552,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"correlation_not_a_table", "fit {all} -o {out} --correlation {run}", "not a gf-correlate table"},
         BadInput{"incline_not_a_table", "fit {all} -o {out} --min-packing-fraction 0.7 --incline {run}",
                  "not an incline-bulk table"},
+        BadInput{"incline_columns_differ", "fit {all} -o {out} --min-packing-fraction 0.7 --incline {short}",
+                 "differ in length: not an incline-bulk table"},
+        BadInput{"incline_missing", "fit {all} -o {out} --min-packing-fraction 0.7 --incline {out}.missing",
+                 "no such file"},
         BadInput{"incline_not_hdf5", "fit {all} -o {out} --min-packing-fraction 0.7 --incline {text}",
                  "not an HDF5 file"},
         BadInput{"fewer_points_than_parameters", "fit {all} -o {out} --min-packing-fraction 0.9",
