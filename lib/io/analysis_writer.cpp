@@ -97,6 +97,12 @@ void AnalysisWriter::write(const std::string& path, const std::vector<std::size_
   impl_->dataset(path, shape, values, meaning, units, extra);
 }
 
+void AnalysisWriter::write(const std::string& path, const std::vector<std::size_t>& shape,
+                           const std::vector<std::uint8_t>& values, const std::string& meaning,
+                           const std::string& units, const Parameters& extra) {
+  impl_->dataset(path, shape, values, meaning, units, extra);
+}
+
 void AnalysisWriter::write(const std::string& path, const std::vector<std::string>& values,
                            const std::string& meaning) {
   hid_t file = impl_->id();

@@ -32,6 +32,8 @@ class AnalysisWriter {
              const std::string& meaning, const std::string& units, const Parameters& extra = {});
   void write(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<std::int64_t>& values,
              const std::string& meaning, const std::string& units, const Parameters& extra = {});
+  void write(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<std::uint8_t>& values,
+             const std::string& meaning, const std::string& units, const Parameters& extra = {});
   // A one-dimensional dataset of fixed-length UTF-8 strings.
   void write(const std::string& path, const std::vector<std::string>& values, const std::string& meaning);
 

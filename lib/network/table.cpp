@@ -11,7 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
-#include "core/sha256.hpp"
+#include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
 #include "network/network.hpp"
@@ -319,79 +319,10 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   return row;
 }
 
-double read_scalar(hid_t file, const std::string& name) {
-  io::Dataset d = io::open_dataset(file, name);
-  if (!io::shape(d.get()).empty()) throw io::Hdf5Error(io::where(d.get()) + ": expected a scalar");
-  double x = 0;
-  io::check(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &x), d.get(), "read");
-  return x;
-}
-
 }  // namespace
 
 std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs, bool signed_xi) {
-  auto bad = [&](const std::string& what) { return UsageError("'" + table + "': " + what); };
-  io::silence_hdf5_errors();
-#if H5_VERSION_GE(1, 12, 0)
-  const htri_t is_hdf5 = H5Fis_accessible(table.c_str(), H5P_DEFAULT);
-#else
-  const htri_t is_hdf5 = H5Fis_hdf5(table.c_str());
-#endif
-  if (is_hdf5 < 0) throw bad("cannot read: " + io::hdf5_reason());
-  if (is_hdf5 == 0) throw bad("not an HDF5 file");
-  try {
-    const io::File file = io::open_file(table, false);
-    const hid_t f = file.get();
-    auto attribute = [&](const std::string& name) -> std::string {
-      if (!io::exists(f, "/parameters")) return "";
-      const io::Group g = io::open_group(f, "/parameters");
-      if (!io::has_attribute(g.get(), name)) return "";
-      const io::Attribute a = io::open_attribute(g.get(), name);
-      if (io::attribute_class(a.get()) != H5T_STRING) return "";
-      return io::read_string_attribute(a.get());
-    };
-    if (attribute("program") != "gf-correlate")
-      throw bad("not a gf-correlate table (/parameters program is not gf-correlate); --correlation needs one");
-    const std::string ratio = signed_xi ? "/correlation/xi_ratio" : "/correlation/xi_abs_ratio";
-    const std::string el = signed_xi ? "/correlation/xi_el" : "/correlation/xi_abs_el";
-    for (const std::string& name : {ratio, ratio + "_error", el})
-      if (!io::exists(f, name))
-        throw bad("no " + name + ": made without --reference (gf-network needs xi_el to read xi/xi_el)");
-    const double xi_el = read_scalar(f, el);
-    if (!std::isfinite(xi_el))
-      throw bad(el + " is not finite: made without --reference (gf-network needs xi_el to read xi/xi_el)");
-    const std::vector<double> value = io::read_all<double>(io::open_dataset(f, ratio).get());
-    const std::vector<double> error = io::read_all<double>(io::open_dataset(f, ratio + "_error").get());
-    std::vector<std::int32_t> measurable;
-    if (!signed_xi) {
-      if (!io::exists(f, "/correlation/measurable")) throw bad("no /correlation/measurable: not a gf-correlate table");
-      measurable = io::read_all<std::int32_t>(io::open_dataset(f, "/correlation/measurable").get());
-    }
-    // The table's inputs: input, input_1, ... with their sha256, one /correlation row each.
-    std::vector<std::string> hashes;
-    for (std::size_t k = 0;; ++k) {
-      const std::string key = k == 0 ? "input_sha256" : "input_" + std::to_string(k) + "_sha256";
-      const std::string h = attribute(key);
-      if (h.empty()) break;
-      hashes.push_back(h);
-    }
-    if (hashes.empty() || hashes.size() != value.size() || error.size() != value.size() ||
-        (!signed_xi && measurable.size() != value.size()))
-      throw bad("its inputs (/parameters input_<k>_sha256) and " + ratio + " rows differ in number");
-    std::vector<XiValue> out;
-    for (const std::string& run : runs) {
-      const std::string h = sha256_file(run);
-      const auto it = std::find(hashes.begin(), hashes.end(), h);
-      if (it == hashes.end())
-        throw UsageError("'" + run + "': not among the runs of the correlation table '" + table +
-                         "' (no input with its sha256)");
-      const std::size_t k = std::size_t(it - hashes.begin());
-      out.push_back({value[k], error[k], signed_xi ? std::isfinite(value[k]) : measurable[k] != 0});
-    }
-    return out;
-  } catch (const io::Hdf5Error& e) {
-    throw UsageError(e.what());
-  }
+  return correlation::read_xi_ratios(table, runs, signed_xi, "gf-network");
 }
 
 Table analyse(const std::vector<std::string>& runs, const TableSettings& settings) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "correlation/table_lookup.hpp"
 #include "io/trajectory.hpp"
 #include "shear/steady_window.hpp"
 
@@ -50,10 +51,8 @@ struct Table {
 // ξ/ξ_el of the runs, read from a gf-correlate table and matched by the sha256 of each
 // run's file. UsageError naming the file: not a gf-correlate table, no ξ_el (made without
 // --reference), a run it does not hold.
-struct XiValue {
-  double ratio = 0, error = 0;
-  bool measurable = false;
-};
+// (correlation/table_lookup.hpp, shared with gf-stz fit; messages name gf-network.)
+using correlation::XiValue;
 std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs, bool signed_xi);
 
 // The whole analysis, with a progress bar over the stored frames of every run unless

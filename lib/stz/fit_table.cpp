@@ -1,0 +1,491 @@
+#include "stz/fit_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/format.hpp"
+#include "core/sha256.hpp"
+#include "correlation/table_lookup.hpp"
+#include "io/analysis_writer.hpp"
+#include "io/hdf5_handle.hpp"
+#include "statistics/delta.hpp"
+
+namespace granflow::stz {
+
+namespace {
+
+using statistics::delta_error;
+using statistics::mean;
+
+std::vector<double> tail(const std::vector<double>& x, std::size_t first) {
+  return std::vector<double>(x.begin() + std::ptrdiff_t(first), x.end());
+}
+
+// A one-dimensional dataset of strings, variable-length (h5py) or fixed-length (granflow).
+std::vector<std::string> read_strings(hid_t dataset) {
+  io::Datatype type(io::check(H5Dget_type(dataset), dataset, "get type"));
+  if (H5Tget_class(type.get()) != H5T_STRING) throw io::Hdf5Error(io::where(dataset) + ": not strings");
+  const std::vector<hsize_t> dims = io::shape(dataset);
+  if (dims.size() != 1) throw io::Hdf5Error(io::where(dataset) + ": expected one dimension");
+  const std::size_t count = dims[0];
+  std::vector<std::string> values;
+  if (io::check(H5Tis_variable_str(type.get()), dataset, "inspect string type") > 0) {
+    io::Datatype mem(io::check(H5Tcopy(H5T_C_S1), dataset, "copy string type"));
+    H5Tset_size(mem.get(), H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
+    std::vector<char*> pointers(count, nullptr);
+    io::check(H5Dread(dataset, mem.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()), dataset, "read");
+    for (char* p : pointers) {
+      values.emplace_back(p ? p : "");
+      H5free_memory(p);
+    }
+  } else {
+    const std::size_t width = H5Tget_size(type.get());
+    std::string packed(width * count, '\0');
+    if (count > 0)
+      io::check(H5Dread(dataset, type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, packed.data()), dataset, "read");
+    for (std::size_t i = 0; i < count; ++i) {
+      std::string v = packed.substr(i * width, width);
+      v.resize(std::min(v.find('\0'), v.size()));
+      values.push_back(std::move(v));
+    }
+  }
+  return values;
+}
+
+double rms(const std::vector<double>& residuals) {
+  if (residuals.empty()) return kNaN;
+  double sum = 0;
+  for (double r : residuals) sum += r * r;
+  return std::sqrt(sum / double(residuals.size()));
+}
+
+bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
+
+// The shortest decimal text that reads back as x (for the dense rule's threshold).
+std::string exact_text(double x) {
+  for (int digits = 6; digits < 17; ++digits) {
+    const std::string text = format_number(x, digits);
+    if (std::strtod(text.c_str(), nullptr) == x) return text;
+  }
+  return format_number(x, 17);
+}
+
+}  // namespace
+
+FitRunRow read_shear_row(const std::string& path, const shear_run::WindowSettings& window) {
+  const shear_run::Opened o = shear_run::open(path, "gf-stz fit");
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  if (!(o.rate != 0) || !std::isfinite(o.rate))
+    throw bad("not sheared (shear rate " + format_number(o.rate) + "): gf-stz fit needs steady shear runs");
+  const shear_run::Window w = shear_run::window(o, path, window);
+  const io::Parameters& p = o.parameters;
+
+  FitRunRow row;
+  row.input = path;
+  row.input_sha256 = sha256_file(path);
+  row.kind = "shear";
+  row.friction = p.get_double("friction");
+  row.restitution = p.get_double("restitution");
+  row.packing_fraction = p.get_double("packing_fraction");
+
+  const io::GrainProperties grains = o.reader.grains();
+  double mass = 0, area = 0;
+  for (std::size_t i = 0; i < grains.radius.size(); ++i) {
+    mass += grains.mass[i];
+    area += std::numbers::pi * grains.radius[i] * grains.radius[i];
+  }
+  const double mean_radius = mean(grains.radius), density = mass / area;
+
+  const std::size_t f = w.first_row;
+  const std::vector<double> T = tail(shear_run::observable(o, path, "temperature"), f);
+  const std::vector<double> P = tail(shear_run::observable(o, path, "pressure"), f);
+  std::vector<double> S = tail(shear_run::observable(o, path, "shear_stress"), f);
+  // γ̇ < 0 is the mirror image x → −x of a run at |γ̇|: its s = −Σxy is negative.
+  if (o.rate < 0)
+    for (double& s : S) s = -s;
+  const double rate = std::fabs(o.rate);
+  const double t = mean(T), pm = mean(P), sm = mean(S);
+  if (!(t > 0) || !(pm > 0))
+    throw bad("non-positive mean temperature or pressure over the window (T = " + format_number(t) +
+              ", p = " + format_number(pm) + ")");
+  row.s_over_p = sm / pm;
+  row.s_over_p_error = delta_error({{S, 1 / pm}, {P, -sm / (pm * pm)}});
+  row.rate_R_over_sqrt_T = rate * mean_radius / std::sqrt(t);
+  row.rate_R_over_sqrt_T_error = delta_error({{T, -row.rate_R_over_sqrt_T / (2 * t)}});
+  row.inertial_number = rate * 2 * mean_radius / std::sqrt(pm / density);
+  row.inertial_number_error = delta_error({{P, -row.inertial_number / (2 * pm)}});
+  return row;
+}
+
+std::vector<FitRunRow> read_incline_rows(const std::string& path) {
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw bad("no such file");
+  io::silence_hdf5_errors();
+#if H5_VERSION_GE(1, 12, 0)
+  const htri_t is_hdf5 = H5Fis_accessible(path.c_str(), H5P_DEFAULT);
+#else
+  const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+#endif
+  if (is_hdf5 < 0) throw bad("cannot read: " + io::hdf5_reason());
+  if (is_hdf5 == 0) throw bad("not an HDF5 file");
+  try {
+    const io::File file = io::open_file(path, false);
+    const hid_t f = file.get();
+    std::string program;
+    if (io::exists(f, "/parameters")) {
+      const io::Group g = io::open_group(f, "/parameters");
+      if (io::has_attribute(g.get(), "program")) {
+        const io::Attribute a = io::open_attribute(g.get(), "program");
+        if (io::attribute_class(a.get()) == H5T_STRING) program = io::read_string_attribute(a.get());
+      }
+    }
+    if (program != "incline_bulk.py")
+      throw bad("not an incline-bulk table (/parameters program is not incline_bulk.py); --incline needs one");
+    auto strings = [&](const std::string& name) {
+      if (!io::exists(f, name)) throw bad("no " + name + ": not an incline-bulk table");
+      return read_strings(io::open_dataset(f, name).get());
+    };
+    auto doubles = [&](const std::string& name) {
+      if (!io::exists(f, name)) throw bad("no " + name + ": not an incline-bulk table");
+      return io::read_all<double>(io::open_dataset(f, name).get());
+    };
+    const std::vector<std::string> input = strings("/runs/input"), sha = strings("/runs/input_sha256");
+    const std::vector<std::int64_t> flowing = [&] {
+      if (!io::exists(f, "/runs/flowing")) throw bad("no /runs/flowing: not an incline-bulk table");
+      return io::read_all<std::int64_t>(io::open_dataset(f, "/runs/flowing").get());
+    }();
+    const std::vector<double> friction = doubles("/runs/friction"), restitution = doubles("/runs/restitution"),
+                              nu = doubles("/bulk/packing_fraction"), x = doubles("/bulk/inertial"),
+                              x_error = doubles("/bulk/inertial_error"), mu = doubles("/bulk/s_over_p"),
+                              mu_error = doubles("/bulk/s_over_p_error"), q = doubles("/bulk/mT_over_pR2"),
+                              q_error = doubles("/bulk/mT_over_pR2_error");
+    const std::size_t n = input.size();
+    for (std::size_t size : {sha.size(), flowing.size(), friction.size(), restitution.size(), nu.size(), x.size(),
+                             x_error.size(), mu.size(), mu_error.size(), q.size(), q_error.size()})
+      if (size != n) throw bad("its /runs and /bulk columns differ in length: not an incline-bulk table");
+    std::vector<FitRunRow> rows;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (flowing[k] != 1) continue;
+      FitRunRow r;
+      r.input = input[k];
+      r.input_sha256 = sha[k];
+      r.kind = "incline";
+      r.friction = friction[k];
+      r.restitution = restitution[k];
+      r.packing_fraction = nu[k];
+      r.rate_R_over_sqrt_T = x[k];
+      r.rate_R_over_sqrt_T_error = x_error[k];
+      r.s_over_p = mu[k];
+      r.s_over_p_error = mu_error[k];
+      // I = 2x√(ρ_p T/p) with ρ_p = m̄/(π⟨R⟩²): 2x√(q/π).
+      if (q[k] > 0 && x[k] >= 0) {
+        r.inertial_number = 2 * x[k] * std::sqrt(q[k] / std::numbers::pi);
+        r.inertial_number_error = r.inertial_number * std::hypot(x_error[k] / x[k], q_error[k] / (2 * q[k]));
+      }
+      rows.push_back(r);
+    }
+    return rows;
+  } catch (const io::Hdf5Error& e) {
+    throw UsageError("'" + path + "': " + e.what());
+  }
+}
+
+FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& settings) {
+  if (runs.empty()) throw UsageError("no input run");
+  const bool by_xi = !settings.correlation.empty();
+  if (!by_xi && !std::isfinite(settings.min_packing_fraction))
+    throw UsageError(
+        "no dense rule: give --correlation TABLE.h5 (xi/xi_el >= --dense-ratio) or "
+        "--min-packing-fraction NU");
+  if (by_xi && !(settings.dense_ratio > 0))
+    throw UsageError("option --dense-ratio: must be > 0, got " + format_number(settings.dense_ratio));
+
+  FitTable table;
+  table.settings = settings;
+  std::map<std::string, std::string> seen;  // sha256 → path
+  for (const std::string& path : runs) {
+    FitRunRow row = read_shear_row(path, settings.window);
+    const auto [it, fresh] = seen.emplace(row.input_sha256, path);
+    if (!fresh) throw UsageError("'" + path + "': the same run as '" + it->second + "' (same sha256): given twice");
+    table.runs.push_back(std::move(row));
+  }
+  if (by_xi) {
+    const std::vector<correlation::XiValue> xi =
+        correlation::read_xi_ratios(settings.correlation, runs, settings.signed_xi, "gf-stz fit");
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      table.runs[k].xi_ratio = xi[k].measurable ? xi[k].ratio : kNaN;
+      table.runs[k].dense = table.runs[k].xi_ratio >= settings.dense_ratio;
+    }
+  } else {
+    for (FitRunRow& r : table.runs) r.dense = r.packing_fraction >= settings.min_packing_fraction;
+  }
+  for (FitRunRow& r : table.runs)
+    r.fitted = r.dense && r.restitution == settings.fit_restitution && positive_finite(r.rate_R_over_sqrt_T) &&
+               positive_finite(r.s_over_p) && positive_finite(r.inertial_number);
+
+  for (const std::string& path : settings.incline)
+    for (FitRunRow& r : read_incline_rows(path)) {
+      // The incline bulk has no correlation-table entry: dense only by the packing-fraction rule.
+      r.dense = !by_xi && r.packing_fraction >= settings.min_packing_fraction;
+      table.runs.push_back(std::move(r));
+    }
+
+  std::vector<double> frictions;
+  for (const FitRunRow& r : table.runs)
+    if (r.fitted && std::find(frictions.begin(), frictions.end(), r.friction) == frictions.end())
+      frictions.push_back(r.friction);
+  std::sort(frictions.begin(), frictions.end());
+  std::vector<double> unfitted;  // frictions of shear rows without a single fitted point
+  for (const FitRunRow& r : table.runs)
+    if (r.kind == "shear" && std::find(frictions.begin(), frictions.end(), r.friction) == frictions.end() &&
+        std::find(unfitted.begin(), unfitted.end(), r.friction) == unfitted.end())
+      unfitted.push_back(r.friction);
+  for (const double mu : unfitted)
+    table.notes.push_back("friction " + format_number(mu) + ": no fitted point (restitution " +
+                          format_number(settings.fit_restitution) + " and dense): no fit");
+
+  for (const double mu : frictions) {
+    std::vector<std::size_t> points;
+    for (std::size_t k = 0; k < table.runs.size(); ++k)
+      if (table.runs[k].fitted && table.runs[k].friction == mu) points.push_back(k);
+    if (points.size() < 3) {
+      table.notes.push_back("friction " + format_number(mu) + ": " + std::to_string(points.size()) +
+                            " fitted points, fewer than the 3 parameters: no fit");
+      continue;
+    }
+    std::vector<double> x, y, x_err, y_err, I;
+    bool weighted = true;
+    for (std::size_t k : points) {
+      const FitRunRow& r = table.runs[k];
+      x.push_back(r.rate_R_over_sqrt_T);
+      y.push_back(r.s_over_p);
+      I.push_back(r.inertial_number);
+      x_err.push_back(r.rate_R_over_sqrt_T_error);
+      y_err.push_back(r.s_over_p_error);
+      weighted = weighted && positive_finite(r.rate_R_over_sqrt_T_error) && positive_finite(r.s_over_p_error);
+    }
+    if (!weighted && settings.objective == StzObjective::orthogonal_distance)
+      throw UsageError("friction " + format_number(mu) +
+                       ": --objective orthogonal needs the errors of x and s/p of every fitted point (a run's window "
+                       "too short for an error?)");
+    if (!weighted) {
+      x_err.clear();
+      y_err.clear();
+      table.notes.push_back("friction " + format_number(mu) +
+                            ": a fitted point has no error: fits unweighted (errors from the scatter)");
+    }
+    FitRow fit;
+    fit.friction = mu;
+    fit.points = std::int64_t(points.size());
+    try {
+      fit.stz = fit_stz(x, y, y_err, x_err, settings.objective);
+    } catch (const std::exception& e) {
+      throw RuntimeFailure("friction " + format_number(mu) + ": the STZ fit failed: " + e.what());
+    }
+    fit.dof = fit.stz.dof;
+    try {
+      fit.mu_of_I = fit_mu_of_I(I, y, y_err);
+      fit.has_mu_of_I = true;
+    } catch (const std::exception& e) {
+      table.notes.push_back("friction " + format_number(mu) + ": the mu(I) fit failed (" + e.what() +
+                            "): its columns are NaN");
+    }
+    const LawComparison laws =
+        compare_laws(fit.stz.value, fit.has_mu_of_I ? fit.mu_of_I.value : MuICoefficients{}, x, I, y);
+    fit.stz_rms = laws.stz_rms;
+    fit.mu_of_I_rms = fit.has_mu_of_I ? laws.mu_of_I_rms : kNaN;
+
+    std::vector<double> predicted, incline, mi_predicted, mi_incline;
+    for (FitRunRow& r : table.runs) {
+      if (r.friction != mu) continue;
+      r.prediction = stz_stress_ratio(fit.stz.value, r.rate_R_over_sqrt_T);
+      r.residual = r.s_over_p - r.prediction;
+      if (fit.has_mu_of_I) {
+        r.prediction_mu_of_I = mu_of_I(fit.mu_of_I.value, r.inertial_number);
+        r.residual_mu_of_I = r.s_over_p - r.prediction_mu_of_I;
+      }
+      if (r.fitted) continue;
+      auto& stz_list = r.kind == "shear" ? predicted : incline;
+      auto& mi_list = r.kind == "shear" ? mi_predicted : mi_incline;
+      if (std::isfinite(r.residual)) stz_list.push_back(r.residual);
+      if (std::isfinite(r.residual_mu_of_I)) mi_list.push_back(r.residual_mu_of_I);
+    }
+    fit.predicted_rms = rms(predicted);
+    fit.predicted_count = std::int64_t(predicted.size());
+    fit.incline_rms = rms(incline);
+    fit.incline_count = std::int64_t(incline.size());
+    fit.mu_of_I_predicted_rms = rms(mi_predicted);
+    fit.mu_of_I_incline_rms = rms(mi_incline);
+    table.fits.push_back(fit);
+  }
+  if (table.fits.empty())
+    throw UsageError("fewer points than parameters: no friction coefficient has 3 fitted runs (restitution " +
+                     format_number(settings.fit_restitution) + ", dense by " +
+                     (by_xi ? "xi/xi_el >= " + format_number(settings.dense_ratio)
+                            : "packing fraction >= " + format_number(settings.min_packing_fraction)) +
+                     ")");
+  return table;
+}
+
+void write_fit_table(const std::string& path, const FitTable& table, const io::Parameters& provenance) {
+  io::AnalysisWriter w(path);
+  w.write_parameters(provenance);
+  const auto& runs = table.runs;
+  const std::size_t n = runs.size();
+  io::Parameters per_run;
+  per_run.set("rows",
+              "one row per RUN.h5 in command-line order (kind shear), then the flowing rows of each --incline "
+              "table (kind incline)");
+  auto text = [&](const char* name, std::string FitRunRow::*member, const std::string& meaning) {
+    std::vector<std::string> v;
+    for (const FitRunRow& r : runs) v.push_back(r.*member);
+    w.write(std::string("/runs/") + name, v, meaning);
+  };
+  auto real = [&](const char* name, double FitRunRow::*member, const std::string& meaning, const char* units) {
+    std::vector<double> v;
+    for (const FitRunRow& r : runs) v.push_back(r.*member);
+    w.write(std::string("/runs/") + name, {n}, v, meaning, units, per_run);
+  };
+  auto flag = [&](const char* name, bool FitRunRow::*member, const std::string& meaning) {
+    std::vector<std::uint8_t> v;
+    for (const FitRunRow& r : runs) v.push_back(r.*member ? 1 : 0);
+    w.write(std::string("/runs/") + name, {n}, v, meaning, "1", per_run);
+  };
+  text("input", &FitRunRow::input, "path of the run (shear) or of the incline run as its table gives it (incline)");
+  text("input_sha256", &FitRunRow::input_sha256, "SHA-256 of that file");
+  text("kind", &FitRunRow::kind, "shear: a RUN.h5; incline: a flowing row of an --incline table");
+  real("friction", &FitRunRow::friction, "Coulomb friction μ (the run's /parameters)", "1");
+  real("restitution", &FitRunRow::restitution, "normal restitution e (the run's /parameters)", "1");
+  real("packing_fraction", &FitRunRow::packing_fraction, "ν: the run's /parameters (shear), the bulk mean (incline)",
+       "1");
+  real("rate_R_over_sqrt_T", &FitRunRow::rate_R_over_sqrt_T,
+       "x = |γ̇|⟨R⟩/√T̄, T the temperature observable (eq. 4.5) over the window (shear); /bulk/inertial (incline)", "1");
+  real("rate_R_over_sqrt_T_error", &FitRunRow::rate_R_over_sqrt_T_error,
+       "its error: delta method over the blocked standard error (shear); /bulk/inertial_error (incline)", "1");
+  real("s_over_p", &FitRunRow::s_over_p,
+       "μ = s̄/p̄, s = −Σxy and p of the total stress over the window (shear); "
+       "/bulk/s_over_p (incline)",
+       "1");
+  real("s_over_p_error", &FitRunRow::s_over_p_error,
+       "its error: delta method over the blocked standard errors (shear); /bulk/s_over_p_error (incline)", "1");
+  real("inertial_number", &FitRunRow::inertial_number,
+       "I = |γ̇|d/√(p̄/ρ_p), d = 2⟨R⟩, ρ_p = Σm/Σ(πR²) (shear); 2x√(q/π), q = /bulk/mT_over_pR2 (incline)", "1");
+  real("inertial_number_error", &FitRunRow::inertial_number_error,
+       "its error: delta method (shear); relative errors of x and √q in quadrature (incline)", "1");
+  real("xi_ratio", &FitRunRow::xi_ratio,
+       "ξ/ξ_el of the correlation table (NaN: no table, an incline row, or not measurable)", "1");
+  flag("dense", &FitRunRow::dense, "1 if dense by the rule of /fit's dense_rule");
+  flag("fitted", &FitRunRow::fitted,
+       "1 if a point of its friction's fit: a shear row, restitution = fit_restitution, dense, x, s/p and I > 0");
+  real("prediction", &FitRunRow::prediction,
+       "STZ s/p at the row's x with the fit of its friction (NaN: no fit for that friction)", "1");
+  real("residual", &FitRunRow::residual, "s_over_p − prediction", "1");
+  real("prediction_mu_of_I", &FitRunRow::prediction_mu_of_I,
+       "μ(I) at the row's I with the fit of its friction (NaN: no fit)", "1");
+  real("residual_mu_of_I", &FitRunRow::residual_mu_of_I, "s_over_p − prediction_mu_of_I", "1");
+  io::Parameters run_group;
+  run_group.set("from_strain", table.settings.window.from_strain);
+  run_group.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
+  run_group.set("temperature_definition",
+                "the gf-shear temperature observable (eq. 4.5, about the mean flow, rotation included), as the "
+                "incline-bulk table's T");
+  w.write_attributes("/runs", run_group);
+
+  const auto& fits = table.fits;
+  const std::size_t m = fits.size();
+  io::Parameters per_fit;
+  per_fit.set("rows", "one row per friction coefficient with a fit, by increasing friction");
+  auto freal = [&](const char* name, auto value, const std::string& meaning, const char* units) {
+    std::vector<double> v;
+    for (const FitRow& f : fits) v.push_back(value(f));
+    w.write(std::string("/fit/") + name, {m}, v, meaning, units, per_fit);
+  };
+  auto fint = [&](const char* name, std::int64_t FitRow::*member, const std::string& meaning) {
+    std::vector<std::int64_t> v;
+    for (const FitRow& f : fits) v.push_back(f.*member);
+    w.write(std::string("/fit/") + name, {m}, v, meaning, "1", per_fit);
+  };
+  constexpr double kDegrees = 180 / std::numbers::pi;
+  auto mi = [](const FitRow& f, double v) { return f.has_mu_of_I ? v : kNaN; };
+  freal(
+      "friction", [](const FitRow& f) { return f.friction; }, "Coulomb friction μ of the fitted runs", "1");
+  fint("points", &FitRow::points, "fitted runs (rows of /runs with fitted = 1 and this friction)");
+  freal(
+      "A", [](const FitRow& f) { return f.stz.value.A; }, "A of eq. 6.36", "1");
+  freal(
+      "A_error", [](const FitRow& f) { return f.stz.error.A; }, "standard error of A", "1");
+  freal(
+      "kappa", [](const FitRow& f) { return f.stz.value.kappa; }, "κ of eq. 6.36", "1");
+  freal(
+      "kappa_error", [](const FitRow& f) { return f.stz.error.kappa; }, "standard error of κ", "1");
+  freal(
+      "zeta", [](const FitRow& f) { return f.stz.value.zeta; }, "ζ of eq. 6.36", "1");
+  freal(
+      "zeta_error", [](const FitRow& f) { return f.stz.error.zeta; }, "standard error of ζ", "1");
+  freal(
+      "tan_theta_star", [](const FitRow& f) { return f.stz.tan_theta_star; },
+      "tanθ*, root of ζ t tanh(κt) = 1 (eq. 6.35)", "1");
+  freal(
+      "tan_theta_star_error", [](const FitRow& f) { return f.stz.tan_theta_star_error; },
+      "its error (delta method over the covariance of κ, ζ)", "1");
+  freal(
+      "theta_star", [&](const FitRow& f) { return f.stz.theta_star * kDegrees; }, "repose angle θ*", "degrees");
+  freal(
+      "theta_star_error", [&](const FitRow& f) { return f.stz.theta_star_error * kDegrees; }, "its error", "degrees");
+  freal(
+      "chi2", [](const FitRow& f) { return f.stz.chi2; },
+      "χ² of the STZ fit's weighted residuals (unweighted: sum of squares)", "1");
+  fint("dof", &FitRow::dof, "points − 3");
+  freal(
+      "mu_s", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.mu_s); }, "μ_s of μ(I)", "1");
+  freal(
+      "mu_s_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.mu_s); }, "its standard error", "1");
+  freal(
+      "mu_2", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.mu_2); }, "μ₂ of μ(I)", "1");
+  freal(
+      "mu_2_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.mu_2); }, "its standard error", "1");
+  freal(
+      "I0", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.I0); }, "I₀ of μ(I)", "1");
+  freal(
+      "I0_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.I0); }, "its standard error", "1");
+  freal(
+      "stz_rms", [](const FitRow& f) { return f.stz_rms; }, "rms residual in s/p of the STZ law, fitted points", "1");
+  freal(
+      "mu_of_I_rms", [](const FitRow& f) { return f.mu_of_I_rms; }, "rms residual in s/p of μ(I), fitted points", "1");
+  freal(
+      "predicted_rms", [](const FitRow& f) { return f.predicted_rms; },
+      "rms STZ residual of the shear rows of this friction that are not fitted (NaN: none)", "1");
+  fint("predicted_count", &FitRow::predicted_count, "rows in predicted_rms");
+  freal(
+      "incline_rms", [](const FitRow& f) { return f.incline_rms; },
+      "rms STZ residual of the incline rows of this friction (NaN: none)", "1");
+  fint("incline_count", &FitRow::incline_count, "rows in incline_rms");
+  freal(
+      "mu_of_I_predicted_rms", [](const FitRow& f) { return f.mu_of_I_predicted_rms; },
+      "rms μ(I) residual over the rows of predicted_rms", "1");
+  freal(
+      "mu_of_I_incline_rms", [](const FitRow& f) { return f.mu_of_I_incline_rms; },
+      "rms μ(I) residual over the incline rows", "1");
+  io::Parameters fit_group;
+  fit_group.set("objective",
+                table.settings.objective == StzObjective::orthogonal_distance ? "orthogonal" : "least-squares");
+  fit_group.set("fit_restitution", table.settings.fit_restitution);
+  fit_group.set("dense_rule", !table.settings.correlation.empty()
+                                  ? "xi_ratio >= " + exact_text(table.settings.dense_ratio)
+                                  : "packing_fraction >= " + exact_text(table.settings.min_packing_fraction));
+  fit_group.set("xi", table.settings.signed_xi ? "signed" : "abs");
+  fit_group.set("theta_star_units", "degrees");
+  w.write_attributes("/fit", fit_group);
+  w.close();
+}
+
+}  // namespace granflow::stz
