@@ -221,9 +221,12 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
   if (by_xi) {
     const std::vector<correlation::XiValue> xi =
         correlation::read_xi_ratios(settings.correlation, runs, settings.signed_xi, "gf-stz fit");
+    // A ratio gf-correlate calls not measurable is the one the cell allows (the correlations
+    // reach it): ξ is at least that long, so the ratio is a lower bound and still decides.
     for (std::size_t k = 0; k < runs.size(); ++k) {
-      table.runs[k].xi_ratio = xi[k].measurable ? xi[k].ratio : kNaN;
-      table.runs[k].dense = table.runs[k].xi_ratio >= settings.dense_ratio;
+      table.runs[k].xi_ratio = xi[k].ratio;
+      table.runs[k].xi_measurable = xi[k].measurable;
+      table.runs[k].dense = std::isfinite(xi[k].ratio) && xi[k].ratio >= settings.dense_ratio;
     }
   } else {
     for (FitRunRow& r : table.runs) r.dense = r.packing_fraction >= settings.min_packing_fraction;
@@ -382,7 +385,12 @@ void write_fit_table(const std::string& path, const FitTable& table, const io::P
   real("inertial_number_error", &FitRunRow::inertial_number_error,
        "its error: delta method (shear); relative errors of x and √q in quadrature (incline)", "1");
   real("xi_ratio", &FitRunRow::xi_ratio,
-       "ξ/ξ_el of the correlation table (NaN: no table, an incline row, or not measurable)", "1");
+       "ξ/ξ_el of the correlation table, a lower bound where xi_measurable is 0 (NaN: no table, an incline row, "
+       "or no value)",
+       "1");
+  flag("xi_measurable", &FitRunRow::xi_measurable,
+       "the correlation table's measurable flag (0: the correlations reach the cell, xi_ratio is a lower bound; "
+       "0 without a table)");
   flag("dense", &FitRunRow::dense, "1 if dense by the rule of /fit's dense_rule");
   flag("fitted", &FitRunRow::fitted,
        "1 if a point of its friction's fit: a shear row, restitution = fit_restitution, dense, x, s/p and I > 0");

@@ -46,6 +46,9 @@ struct FitRunRow {
   double s_over_p = kNaN, s_over_p_error = kNaN;
   double inertial_number = kNaN, inertial_number_error = kNaN;
   double xi_ratio = kNaN;
+  // The table's measurable flag: 0 where the correlations reach the cell, whose ratio is then
+  // a lower bound (dense when that bound reaches the rule's ratio).
+  bool xi_measurable = false;
   bool dense = false, fitted = false;
   double prediction = kNaN, residual = kNaN, prediction_mu_of_I = kNaN, residual_mu_of_I = kNaN;
 };

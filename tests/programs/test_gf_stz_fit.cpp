@@ -383,6 +383,48 @@ TEST(GfStzFit, DenseByTheCorrelationTable) {
   expect_predictions(out);
 }
 
+// gf-correlate marks a run whose correlations reach the cell "not measurable" and keeps the
+// ratio the cell allows: ξ is at least that long, so the ratio is a lower bound and a run with
+// a bound at or above R is dense (the densest runs of a small cell are all such runs).
+TEST(GfStzFit, ARatioBoundedByTheCellIsALowerBound) {
+  std::vector<std::string> runs = e0_runs();
+  for (int seed : {4, 5, 6}) runs.push_back(run("e0_80_seed" + std::to_string(seed), "0.80", "--restitution 0", seed));
+  ScratchDir dir("stz_fit_xi_bound");
+  const std::string table = dir / "correlation.h5", out = dir / "fit.h5";
+  ASSERT_EQ(run_tool("gf-correlate", joined(runs) + "-o " + table + " --reference " + runs[2] + " --quiet").exit_code,
+            0);
+  const std::vector<double> ratio = read_doubles(table, "/correlation/xi_abs_ratio");
+  std::vector<double> finite;
+  for (double v : ratio)
+    if (std::isfinite(v)) finite.push_back(v);
+  ASSERT_GE(finite.size(), 4u);
+  std::sort(finite.begin(), finite.end());
+  // R = the third largest finite ratio (three dense runs, enough for a fit, when the bound
+  // counts); the rows of the largest and the smallest marked as reaching the cell.
+  const double R = finite[finite.size() - 3];
+  std::vector<std::int32_t> measurable(ratio.size(), 1);
+  for (std::size_t k = 0; k < ratio.size(); ++k)
+    if (ratio[k] == finite.back() || ratio[k] == finite.front()) measurable[k] = 0;
+  {
+    io::File f = io::open_file(table, true);
+    io::Dataset d = io::open_dataset(f.get(), "/correlation/measurable");
+    ASSERT_GE(H5Dwrite(d.get(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, measurable.data()), 0);
+  }
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", R);
+  const auto r = run_tool("gf-stz", "fit " + joined(runs) + "-o " + out + " --correlation " + table +
+                                        " --dense-ratio " + text + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto xi = read_doubles(out, "/runs/xi_ratio");
+  const auto dense = read_flags(out, "/runs/dense");
+  const auto xi_measurable = read_flags(out, "/runs/xi_measurable");
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    EXPECT_EQ(xi[k], ratio[k]) << k;
+    EXPECT_EQ(xi_measurable[k], measurable[k]) << k;
+    EXPECT_EQ(dense[k], std::isfinite(ratio[k]) && ratio[k] >= R ? 1 : 0) << k;
+  }
+}
+
 TEST(GfStzFit, InclineRowsArePredictedNeverFitted) {
   std::vector<std::string> runs = e0_runs();
   runs.push_back(friction_run());
