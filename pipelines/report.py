@@ -1107,19 +1107,37 @@ def ch6_stz_section(fit_path, critical_path=None):
             "1055",
         ),
         quote("find that the incline flow data is predicted using the exact same coefficients!", "1077"),
-        "| μ | points | A | κ | ζ | tanθ* | θ* (°) | χ²/dof | μ_s | μ₂ | I₀ |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| μ | points | A | κ | ζ | tanθ* | θ* (°) | θ* jackknife error (°) | χ²/dof | μ_s | μ₂ | I₀ |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     pm = lambda n, r: stz.fmt_pm(col(n)[r], col(n + "_error")[r])  # noqa: E731
+
+    def jackknife(r):
+        """θ*'s delete-one jackknife error in degrees (NaN in tables without the column)."""
+        return col("theta_star_jackknife_error")[r] if "theta_star_jackknife_error" in fit else math.nan
+
     order = np.argsort(col("friction"))
     for r in order:
         dof = int(fit["dof"][r]) if "dof" in fit else 0
         chi = f"{col('chi2')[r]:.3g}/{dof}" if math.isfinite(col("chi2")[r]) else "–"
         lines.append(
             f"| {col('friction')[r]:g} | {int(fit['points'][r]) if 'points' in fit else '–'} | {pm('A', r)} | "
-            f"{pm('kappa', r)} | {pm('zeta', r)} | {pm('tan_theta_star', r)} | {pm('theta_star', r)} | {chi} | "
-            f"{pm('mu_s', r)} | {pm('mu_2', r)} | {pm('I0', r)} |"
+            f"{pm('kappa', r)} | {pm('zeta', r)} | {pm('tan_theta_star', r)} | {pm('theta_star', r)} | "
+            f"{stz.fmt(jackknife(r))} | {chi} | {pm('mu_s', r)} | {pm('mu_2', r)} | {pm('I0', r)} |"
         )
+    degenerate = [
+        f"{col('friction')[r]:g}"
+        for r in order
+        if any(not (abs(col(n + "_error")[r]) < 100 * abs(col(n)[r])) for n in ("A", "kappa", "zeta"))
+    ]
+    if degenerate:
+        lines += [
+            "",
+            f"At μ = {', '.join(degenerate)} A, κ and ζ are not determined one by one (an error above 100 times the "
+            "value): the points lie near the κ → 0 limit of eq. 6.36, x ≈ c₁μ − c₂/μ (Aκ = c₁, A/ζ = c₂), which "
+            "fixes tanθ* = √(c₂/c₁) but not the three coefficients; the delta-method error of θ* is then NaN and "
+            "the jackknife error (refits without each point) stands.",
+        ]
     lines += [
         "",
         "rms residuals in s/p (count):",
@@ -1178,6 +1196,8 @@ def ch6_stz_section(fit_path, critical_path=None):
             )
         else:
             ts, tse = col("theta_star")[row], col("theta_star_error")[row]
+            if not math.isfinite(tse):
+                tse = jackknife(row)
             note = (
                 ""
                 if abs(e_c - stz.fit_restitution(table)) < 1e-9

@@ -358,13 +358,47 @@ StzFit fit_stz(const std::vector<double>& x, const std::vector<double>& mu, cons
   const double th = std::tanh(fit.value.kappa * t), sech2 = 1 - th * th;
   const double ht = fit.value.zeta * th + fit.value.zeta * fit.value.kappa * t * sech2;
   const double dk = -fit.value.zeta * t * t * sech2 / ht, dz = -t * th / ht;
-  const double var =
-      dk * dk * fit.covariance[1][1] + 2 * dk * dz * fit.covariance[1][2] + dz * dz * fit.covariance[2][2];
+  // In the logarithms the minimiser worked in (∂t/∂log κ = κ ∂t/∂κ): the better conditioned
+  // form. Where the coefficients are degenerate (points near the κ → 0 limit x = c₁μ − c₂/μ,
+  // which fixes tanθ* but not A, κ, ζ), the three terms are huge and cancel: a variance left
+  // with fewer than 8 of their digits is not a result, and the error is NaN, not a round-off 0
+  // (stz_repose_jackknife_error then gives one).
+  const double a = fit.value.kappa * dk, b = fit.value.zeta * dz, s2 = fit.scale * fit.scale;
+  const double t1 = a * a * s2 * best.covariance[4], t2 = 2 * a * b * s2 * best.covariance[5],
+               t3 = b * b * s2 * best.covariance[8];
+  const double var = t1 + t2 + t3;
   fit.tan_theta_star = t;
-  fit.tan_theta_star_error = std::sqrt(std::max(var, 0.0));
+  fit.tan_theta_star_error = var > 1e-8 * (std::abs(t1) + std::abs(t2) + std::abs(t3)) ? std::sqrt(var) : kNaN;
   fit.theta_star = std::atan(t);
   fit.theta_star_error = fit.tan_theta_star_error / (1 + t * t);
   return fit;
+}
+
+double stz_repose_jackknife_error(const std::vector<double>& x, const std::vector<double>& mu,
+                                  const std::vector<double>& mu_error, const std::vector<double>& x_error,
+                                  StzObjective objective) {
+  const std::size_t n = x.size();
+  if (n < 5) return kNaN;
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    auto without = [k](const std::vector<double>& v) {
+      if (v.empty()) return v;
+      std::vector<double> w(v);
+      w.erase(w.begin() + std::ptrdiff_t(k));
+      return w;
+    };
+    try {
+      t[k] = fit_stz(without(x), without(mu), without(mu_error), without(x_error), objective).tan_theta_star;
+    } catch (const std::runtime_error&) {
+      return kNaN;
+    }
+    if (!std::isfinite(t[k])) return kNaN;
+  }
+  double mean = 0;
+  for (double v : t) mean += v / double(n);
+  double sum = 0;
+  for (double v : t) sum += (v - mean) * (v - mean);
+  return std::sqrt(double(n - 1) / double(n) * sum);
 }
 
 double mu_of_I(const MuICoefficients& c, double I) {

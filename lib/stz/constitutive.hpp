@@ -47,7 +47,8 @@ struct StzFit {
   StzCoefficients value;
   StzCoefficients error;                                      // standard errors (see scale below)
   double covariance[3][3] = {};                               // of (A, κ, ζ), with the same scale
-  double tan_theta_star = kNaN, tan_theta_star_error = kNaN;  // error by the delta method
+  // error by the delta method; NaN where the coefficients are degenerate (see the .cpp)
+  double tan_theta_star = kNaN, tan_theta_star_error = kNaN;
   double theta_star = kNaN, theta_star_error = kNaN;          // radians
   double chi2 = kNaN;                                         // of the weighted residuals at the minimum
   int dof = 0;                                                // K − 3
@@ -66,6 +67,14 @@ struct StzFit {
 // the minimiser fails. Starting values: a grid search (docs/method/stz.md), not a guess.
 StzFit fit_stz(const std::vector<double>& x, const std::vector<double>& mu, const std::vector<double>& mu_error = {},
                const std::vector<double>& x_error = {}, StzObjective objective = StzObjective::least_squares_mu);
+
+// The delete-one jackknife error of tanθ*: fit_stz on the points without point k, for every k,
+// √((K−1)/K Σ(t_k − t̄)²). Needs no covariance, so it stands where the delta-method error is NaN
+// (degenerate coefficients). NaN for fewer than 5 points or when a refit fails. Arguments as
+// fit_stz.
+double stz_repose_jackknife_error(const std::vector<double>& x, const std::vector<double>& mu,
+                                  const std::vector<double>& mu_error = {}, const std::vector<double>& x_error = {},
+                                  StzObjective objective = StzObjective::least_squares_mu);
 
 struct MuICoefficients {
   double mu_s = kNaN, mu_2 = kNaN, I0 = kNaN;

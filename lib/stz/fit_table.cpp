@@ -291,6 +291,7 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
     fit.points = std::int64_t(points.size());
     try {
       fit.stz = fit_stz(x, y, y_err, x_err, settings.objective);
+      fit.tan_theta_star_jackknife_error = stz_repose_jackknife_error(x, y, y_err, x_err, settings.objective);
     } catch (const std::exception& e) {
       throw RuntimeFailure("friction " + format_number(mu) + ": the STZ fit failed: " + e.what());
     }
@@ -444,11 +445,25 @@ void write_fit_table(const std::string& path, const FitTable& table, const io::P
       "tanθ*, root of ζ t tanh(κt) = 1 (eq. 6.35)", "1");
   freal(
       "tan_theta_star_error", [](const FitRow& f) { return f.stz.tan_theta_star_error; },
-      "its error (delta method over the covariance of κ, ζ)", "1");
+      "its error (delta method over the covariance of κ, ζ; NaN where the coefficients are degenerate and the "
+      "covariance keeps no digit of it)",
+      "1");
+  freal(
+      "tan_theta_star_jackknife_error",
+      [](const FitRow& f) { return f.tan_theta_star_jackknife_error; },
+      "its delete-one jackknife error over the fitted points (refits; NaN for fewer than 5 points)", "1");
   freal(
       "theta_star", [&](const FitRow& f) { return f.stz.theta_star * kDegrees; }, "repose angle θ*", "degrees");
   freal(
-      "theta_star_error", [&](const FitRow& f) { return f.stz.theta_star_error * kDegrees; }, "its error", "degrees");
+      "theta_star_error", [&](const FitRow& f) { return f.stz.theta_star_error * kDegrees; },
+      "its error (from tan_theta_star_error)", "degrees");
+  freal(
+      "theta_star_jackknife_error",
+      [&](const FitRow& f) {
+        const double t = f.stz.tan_theta_star;
+        return f.tan_theta_star_jackknife_error / (1 + t * t) * kDegrees;
+      },
+      "its error from tan_theta_star_jackknife_error", "degrees");
   freal(
       "chi2", [](const FitRow& f) { return f.stz.chi2; },
       "χ² of the STZ fit's weighted residuals (unweighted: sum of squares)", "1");

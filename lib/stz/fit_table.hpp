@@ -57,6 +57,7 @@ struct FitRow {
   double friction = kNaN;
   std::int64_t points = 0, dof = 0, predicted_count = 0, incline_count = 0;
   StzFit stz;
+  double tan_theta_star_jackknife_error = kNaN;  // stz_repose_jackknife_error over the fitted points
   MuIFit mu_of_I;
   bool has_mu_of_I = false;
   double stz_rms = kNaN, mu_of_I_rms = kNaN, predicted_rms = kNaN, incline_rms = kNaN;

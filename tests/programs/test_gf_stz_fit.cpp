@@ -318,6 +318,9 @@ TEST(GfStzFit, FitsTheDenseRunsOfTheGivenRestitutionPerFriction) {
   EXPECT_EQ(read_doubles(out, "/fit/theta_star")[0], want.theta_star * 180 / std::numbers::pi);
   EXPECT_EQ(read_doubles(out, "/fit/chi2")[0], want.chi2);
   EXPECT_EQ(read_int64(out, "/fit/dof")[0], 1);
+  // Four points: too few for the jackknife (NaN), as the library says.
+  EXPECT_TRUE(std::isnan(stz::stz_repose_jackknife_error(fx, fmu, ferr)));
+  EXPECT_TRUE(std::isnan(read_doubles(out, "/fit/tan_theta_star_jackknife_error")[0]));
   const stz::MuIFit want_I = stz::fit_mu_of_I(fI, fmu, ferr);
   const stz::MuICoefficients got_I = mu_of_I_of(out, 0);
   EXPECT_EQ(got_I.mu_s, want_I.value.mu_s);

@@ -121,6 +121,47 @@ TEST(Stz, FitRecoversCoefficientsFromNoisyPoints) {
   }
 }
 
+// Points on the κ → 0 limit of eq. 6.36, x = c₁μ − c₂/μ (A → ∞, κ → 0, ζ → ∞ with Aκ = c₁ and
+// A/ζ = c₂), as the quick size's dense runs lie: A, κ, ζ run off along a valley and their
+// covariance loses every digit, yet tanθ* = √(c₂/c₁) is fixed. The stated error of tanθ* must
+// then be NaN (not determined by the delta method), never a round-off 0; the value stays right.
+TEST(Stz, DegenerateCoefficientsGiveNoFalseErrorOfTheReposeAngle) {
+  const double c1 = 2.0, c2 = 0.03, truth = std::sqrt(c2 / c1);
+  Rng rng(7);
+  std::vector<double> x, mu, mu_error;
+  for (int k = 0; k < 9; ++k) {
+    const double m = 0.22 + 0.035 * k;
+    x.push_back(c1 * m - c2 / m);
+    mu.push_back(m * (1 + 0.002 * rng.normal()));
+    mu_error.push_back(0.002 * m);
+  }
+  const StzFit fit = fit_stz(x, mu, mu_error);
+  EXPECT_NEAR(fit.tan_theta_star, truth, 0.01);
+  EXPECT_FALSE(fit.tan_theta_star_error == 0) << "κ = " << fit.value.kappa << " ± " << fit.error.kappa;
+  if (std::isfinite(fit.tan_theta_star_error)) {
+    EXPECT_LT(fit.tan_theta_star_error, 0.05);
+  }
+  EXPECT_EQ(std::isnan(fit.tan_theta_star_error), std::isnan(fit.theta_star_error));
+  // The jackknife needs no covariance: finite, small, and the truth within 3 of it.
+  const double jack = stz_repose_jackknife_error(x, mu, mu_error);
+  EXPECT_GT(jack, 0);
+  EXPECT_LT(jack, 0.02);
+  EXPECT_NEAR(fit.tan_theta_star, truth, 3 * jack);
+}
+
+// Where the coefficients are determined, the jackknife and the delta method agree within a
+// factor 2 on tanθ*'s error.
+TEST(Stz, JackknifeErrorOfTheReposeAngleAgreesWithTheDeltaMethod) {
+  Rng rng(2023);
+  const Points p = synthetic(kTruth, rng, 0.005);
+  const StzFit fit = fit_stz(p.x, p.mu, p.mu_error);
+  const double jack = stz_repose_jackknife_error(p.x, p.mu, p.mu_error);
+  ASSERT_TRUE(std::isfinite(fit.tan_theta_star_error));
+  EXPECT_GT(jack, 0.5 * fit.tan_theta_star_error);
+  EXPECT_LT(jack, 2 * fit.tan_theta_star_error);
+  EXPECT_TRUE(std::isnan(stz_repose_jackknife_error({0.1, 0.2, 0.3, 0.4}, {0.3, 0.35, 0.4, 0.45})));
+}
+
 // Coverage: over 50 realisations, the truth within 2 stated σ in ≥ 85 % of them (95 % for a
 // Gaussian estimator) for every coefficient and for tanθ*, and the mean stated error within
 // 0.7–1.4 of the realisations' scatter. Measured over 400 realisations
