@@ -490,7 +490,7 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
     def test_stz_section(self):
         r = self.report
         self.assertIn("## Chapter 6: the STZ constitutive law (thesis §6.3, Figs 6.10–6.11)", r)
-        self.assertIn("| 0 | 4 | 1 ± 0.1 | 5 ± 0.2 | 5 ± 0.5 | 0.24 ± 0.004 | 13.5 ± 0.2 | 2/1 |", r)
+        self.assertIn("| 0 | 4 | 1 ± 0.1 | 5 ± 0.2 | 5 ± 0.5 | 0.24 ± 0.004 | 13.5 ± 0.2 | – | 2/1 |", r)
         self.assertIn("| 0.4 | 3 | 2 ± 0.2 | 3 ± 0.3 | 10 ± 1 | 0.192 ± 0.005 |", r)
         self.assertIn("| 0 | 0.001 | 0.003 | STZ | 0.01 (3) | 0.007 (3) | 0.02 (1) | 0.023 (1) |", r)
         self.assertIn("| 0.4 | 0.002 | 0.001 | μ(I) | – (0) |", r)
@@ -506,6 +506,25 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
         )
         self.assertIn(f"difference {theta - 11.5:.3g}°", self.with_critical)
         self.assertIn("Note: the critical-angle sweep is at e = 0.5, the fit at e = 0.", self.with_critical)
+
+    def test_degenerate_coefficients_use_the_jackknife(self):
+        # A μ = 0 fit whose A, κ, ζ run off (errors ~10¹³ times the values) and whose delta-method
+        # θ* error is NaN, as the quick size's: the jackknife error is shown and used against θ_c.
+        import report  # noqa: E402
+
+        with tempfile.TemporaryDirectory() as d:
+            path = write_fit(os.path.join(d, "fit.h5"), fit_rows(d))
+            with h5py.File(path, "r+") as f:
+                f["fit/A_error"][0] = 1e20
+                f["fit/tan_theta_star_error"][0] = NAN
+                f["fit/theta_star_error"][0] = NAN
+                f["fit/theta_star_jackknife_error"] = np.array([0.75, 0.4])
+            text = "\n".join(report.ch6_stz_section(path, self.critical))
+        self.assertIn("| 0.24 | 13.5 | 0.75 | 2/1 |", text)
+        self.assertIn("At μ = 0 A, κ and ζ are not determined one by one", text)
+        self.assertNotIn("At μ = 0, 0.4", text)
+        theta = math.degrees(math.atan(tan_theta_star(5.0, 5.0)))
+        self.assertIn(f"θ* (μ = 0) = {theta:.3g} ± 0.75° against", text)
 
 
 ROOT = os.path.abspath(os.path.join(PIPELINES, ".."))
