@@ -138,10 +138,12 @@ def figure_6_10(path, output):
     for k, value in enumerate(sorted(set(e[shear0]), reverse=True)):
         colour = f"C{k}"
         rows = shear0 & (np.abs(e - value) < 1e-9)
-        for which, style in (
-            (dense, dict(marker="o", color=colour, mfc=colour, ms=5, label=f"e = {value:g}")),
-            (~dense, dict(marker="o", color=colour, mfc="none", ms=5, alpha=0.35)),
-        ):
+        # The legend entry goes with the dense points, or with the dilute ones when a restitution
+        # has none (e = 0.92 at the quick size), so that every e is named.
+        filled = dict(marker="o", color=colour, mfc=colour, ms=5)
+        pale = dict(marker="o", color=colour, mfc="none", ms=5, alpha=0.35)
+        (filled if np.any(rows & dense) else pale)["label"] = f"e = {value:g}"
+        for which, style in ((dense, filled), (~dense, pale)):
             sel = rows & which
             points(ax, x[sel], y[sel], xe[sel], ye[sel], **style)
     x_max = np.nanmax(x[shear0]) if np.any(np.isfinite(x[shear0])) else 1.0
