@@ -1158,6 +1158,30 @@ def ch6_stz_section(fit_path, critical_path=None):
             f"({pc}) | {stz.fmt(col('mu_of_I_predicted_rms')[r])} ({pc}) | {stz.fmt(col('incline_rms')[r])} ({ic}) | "
             f"{stz.fmt(col('mu_of_I_incline_rms')[r])} ({ic}) |"
         )
+    # The predicted shear runs split by the dense rule: the thesis claims the dense ones only.
+    rcol = lambda n: stz.column(table, n)  # noqa: E731
+    dense_flag = np.asarray(table["runs"]["dense"]).astype(bool)
+    fitted_flag = np.asarray(table["runs"]["fitted"]).astype(bool)
+    lines += [
+        "",
+        "The predicted shear runs (not fitted) split by the dense rule, rms residual in s/p (count):",
+        "",
+        "| μ | STZ, dense | μ(I), dense | STZ, dilute | μ(I), dilute |",
+        "|---|---|---|---|---|",
+    ]
+
+    def rms(values):
+        v = values[np.isfinite(values)]
+        return (math.sqrt(float(np.mean(v * v))) if len(v) else math.nan), len(v)
+
+    for r in order:
+        mine = (runs_kind == "shear") & stz.same(rcol("friction"), col("friction")[r]) & ~fitted_flag
+        cells = []
+        for which in (dense_flag, ~dense_flag):
+            for name in ("residual", "residual_mu_of_I"):
+                value, count = rms(rcol(name)[mine & which])
+                cells.append(f"{stz.fmt(value)} ({count})")
+        lines.append(f"| {col('friction')[r]:g} | " + " | ".join(cells) + " |")
     incline = np.flatnonzero(runs_kind == "incline")
     if len(incline):
         get = lambda n: stz.column(table, n)  # noqa: E731

@@ -494,6 +494,9 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
         self.assertIn("| 0.4 | 3 | 2 ± 0.2 | 3 ± 0.3 | 10 ± 1 | 0.192 ± 0.005 |", r)
         self.assertIn("| 0 | 0.001 | 0.003 | STZ | 0.01 (3) | 0.007 (3) | 0.02 (1) | 0.023 (1) |", r)
         self.assertIn("| 0.4 | 0.002 | 0.001 | μ(I) | – (0) |", r)
+        # Split by the dense rule: the two e = 0.5 rows (dense, 0.01 above) and the dilute e = 0 row.
+        self.assertIn("| 0 | 0.01 (2) | 0.007 (2) | 0.05 (1) | 0.047 (1) |", r)
+        self.assertIn("| 0.4 | – (0) | – (0) | – (0) | – (0) |", r)
         self.assertIn("| `incline_th14_e0.00_mu0.00_s1.h5` | 0 | 0 |", r)
         self.assertIn("| 0.26 | -0.02 | -0.023 |", r)
         self.assertNotIn("critical angle", r)
