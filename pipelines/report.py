@@ -1170,17 +1170,13 @@ def ch6_stz_section(fit_path, critical_path=None):
         "|---|---|---|---|---|",
     ]
 
-    def rms(values):
-        v = values[np.isfinite(values)]
-        return (math.sqrt(float(np.mean(v * v))) if len(v) else math.nan), len(v)
-
     for r in order:
         mine = (runs_kind == "shear") & stz.same(rcol("friction"), col("friction")[r]) & ~fitted_flag
         cells = []
         for which in (dense_flag, ~dense_flag):
             for name in ("residual", "residual_mu_of_I"):
-                value, count = rms(rcol(name)[mine & which])
-                cells.append(f"{stz.fmt(value)} ({count})")
+                values = rcol(name)[mine & which]
+                cells.append(f"{stz.fmt(stz.rms(values))} ({int(np.sum(np.isfinite(values)))})")
         lines.append(f"| {col('friction')[r]:g} | " + " | ".join(cells) + " |")
     incline = np.flatnonzero(runs_kind == "incline")
     if len(incline):

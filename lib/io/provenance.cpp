@@ -24,9 +24,14 @@ Parameters provenance(const CommandLine& cli) {
 }
 
 void add_input(Parameters& parameters, const std::string& path, int index, const std::string& key) {
+  add_hashed_input(parameters, path, sha256_file(path), index, key);
+}
+
+void add_hashed_input(Parameters& parameters, const std::string& path, const std::string& sha256, int index,
+                      const std::string& key) {
   const std::string name = index == 0 ? key : key + "_" + std::to_string(index);
   parameters.set(name, path);
-  parameters.set(name + "_sha256", sha256_file(path));
+  parameters.set(name + "_sha256", sha256);
 }
 
 void add_input_frame(Parameters& parameters, const TrajectoryReader& input, std::size_t index, std::int64_t step,

@@ -18,6 +18,9 @@ Parameters provenance(const CommandLine& cli);
 // multi-input program goes to input_<k> and input_<k>_sha256. Inputs of another role
 // take another key (e.g. "reference": reference, reference_1, ...).
 void add_input(Parameters& parameters, const std::string& path, int index = 0, const std::string& key = "input");
+// The same with the SHA-256 already computed (a large input read for a check is hashed once).
+void add_hashed_input(Parameters& parameters, const std::string& path, const std::string& sha256, int index = 0,
+                      const std::string& key = "input");
 
 // Records which stored frame of the input a run starts from (a branch from another run's
 // trajectory): input_frame (index), input_step, input_time, and the parent run's own

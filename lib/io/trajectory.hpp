@@ -186,8 +186,9 @@ class TrajectoryReader {
   // Reads only frame k, with its contacts when the file has them (has_contacts).
   Frame frame(std::size_t k) const;
   // A --frame option's value as an index: negative counts from the end (−1 = last);
-  // UsageError naming the file and the frame count if out of range.
-  std::size_t frame_index(long long k) const;
+  // UsageError naming the file, the frame count and `option` (how the message names the
+  // value: "--frame K is out of range") if out of range.
+  std::size_t frame_index(long long k, const std::string& option = "--frame") const;
   std::vector<std::int64_t> frame_steps() const;
   std::vector<double> frame_times() const;
   bool has_contacts() const;

@@ -252,12 +252,12 @@ std::vector<double> TrajectoryReader::frame_times() const {
   return as_usage_error([&] { return impl_->read_frames<double>(schema::kPosition + "/time"); });
 }
 
-std::size_t TrajectoryReader::frame_index(long long k) const {
+std::size_t TrajectoryReader::frame_index(long long k, const std::string& option) const {
   const long long frames = (long long)frame_count();
   const long long index = k < 0 ? k + frames : k;
   if (index < 0 || index >= frames)
-    throw UsageError("'" + impl_->path + "' has " + std::to_string(frames) + " frame(s); --frame " + std::to_string(k) +
-                     " is out of range");
+    throw UsageError("'" + impl_->path + "' has " + std::to_string(frames) + " frame(s); " + option + " " +
+                     std::to_string(k) + " is out of range");
   return std::size_t(index);
 }
 

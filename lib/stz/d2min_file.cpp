@@ -26,27 +26,20 @@ constexpr const char* kProgram = "gf-stz d2min";
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
-// A frame index of --frames in a file of `count` frames; negative counts from the end.
-std::size_t resolve_frame(long long k, std::size_t count, const std::string& path) {
-  const long long frames = (long long)count;
-  const long long index = k < 0 ? k + frames : k;
-  if (index < 0 || index >= frames)
-    throw UsageError("option --frames: " + quoted(path) + " has " + std::to_string(frames) + " frame(s); frame " +
-                     std::to_string(k) + " is out of range");
-  return std::size_t(index);
-}
+// How an out-of-range index of --frames is named (TrajectoryReader::frame_index).
+constexpr const char* kFramesOption = "--frames: frame";
 
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 // BRANCH must be a gf-shear run started from frame `a` of TRAJ, with TRAJ's grains.
-void check_branch(const io::TrajectoryReader& trajectory, std::size_t a, const io::Frame& reference,
-                  const io::TrajectoryReader& branch, const io::Frame& branch_start) {
+void check_branch(const io::TrajectoryReader& trajectory, const std::string& trajectory_sha256, std::size_t a,
+                  const io::Frame& reference, const io::TrajectoryReader& branch, const io::Frame& branch_start) {
   const std::string& tpath = trajectory.path();
   const std::string& bpath = branch.path();
   const std::string not_branch = quoted(bpath) + " is not a branch of " + quoted(tpath) + " frame " + std::to_string(a);
   const io::Parameters p = branch.parameters();
   if (!p.has("input_sha256")) throw UsageError(not_branch + ": its /parameters name no input_sha256");
-  if (p.get_string("input_sha256") != sha256_file(tpath))
+  if (p.get_string("input_sha256") != trajectory_sha256)
     throw UsageError(not_branch + ": it started from another file (its input_sha256 is not " + quoted(tpath) +
                      "'s sha256)");
   if (!p.has("frame")) throw UsageError(not_branch + ": its /parameters name no frame");
@@ -93,18 +86,19 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
   const shear_run::Opened traj = shear_run::open(request.trajectory, kProgram);
   const io::TrajectoryReader& reader = traj.reader;
   const std::string& tpath = request.trajectory;
-  const std::size_t a = resolve_frame(request.reference_frame, reader.frame_count(), tpath);
+  const std::size_t a = reader.frame_index(request.reference_frame, kFramesOption);
+  D2minResult out;
+  out.trajectory_sha256 = sha256_file(tpath);
 
   std::optional<shear_run::Opened> branch;
   std::size_t b = 0;
   if (!request.branch.empty()) {
     branch.emplace(shear_run::open(request.branch, kProgram));
-    b = resolve_frame(request.current_frame, branch->reader.frame_count(), request.branch);
+    b = branch->reader.frame_index(request.current_frame, kFramesOption);
   } else {
-    b = resolve_frame(request.current_frame, reader.frame_count(), tpath);
+    b = reader.frame_index(request.current_frame, kFramesOption);
   }
 
-  D2minResult out;
   const io::Frame reference = reader.frame(a);
   const std::size_t n = reference.position.size();
   out.radius = reader.grains().radius;
@@ -127,7 +121,7 @@ D2minResult d2min_between_frames(const D2minRequest& request) {
   auto name = [&](std::size_t k) { return quoted(spath) + " frame " + std::to_string(k); };
   Progress bar("gf-stz d2min", double(last - first + 1), request.quiet);
   io::Frame frame = branch ? source.frame(0) : (first == a ? reference : reader.frame(first));
-  if (branch) check_branch(reader, a, reference, source, frame);
+  if (branch) check_branch(reader, out.trajectory_sha256, a, reference, source, frame);
   const double first_time = frame.time;
   try {
     Unwrapper unwrapper(stored(frame), rate, name(first));
@@ -192,6 +186,10 @@ void write_d2min(const std::string& path, const D2minResult& r, const io::Parame
             "D2min = sum over the reference neighbours n of |d_n - F d0_n|^2 (Falk-Langer, eq. 6.32)" + per_grain,
             "length^2");
     w.write("/d2min/per_neighbour", {n}, r.d2min.per_neighbour, "D2min / neighbours" + per_grain, "length^2");
+    w.write("/d2min/valid", {n}, r.d2min.valid,
+            "1: D2min computed; 0: fewer than 2 neighbours or their bonds (nearly) collinear (Y singular): value, "
+            "per_neighbour and F are NaN",
+            "1");
     w.write("/d2min/neighbours", {n}, r.d2min.neighbours,
             "neighbours in the reference frame: centre distance < cutoff (Lees-Edwards minimum image)", "1");
     std::vector<double> f(4 * n);
@@ -212,18 +210,9 @@ void write_d2min(const std::string& path, const D2minResult& r, const io::Parame
     w.write_attributes("/reference", ref);
     w.close();
   }
-  // The analysis writer has no uint8 dataset and no array attribute of doubles: both are
-  // written here, on the file it closed.
+  // The analysis writer has no array attribute of doubles: the box is written here, on the
+  // file it closed.
   io::File file = io::open_file(path, true);
-  const std::vector<hsize_t> dims{n};
-  io::write_dataset(file.get(), "/d2min/valid", dims, r.d2min.valid.data());
-  {
-    io::Dataset valid = io::open_dataset(file.get(), "/d2min/valid");
-    io::write_attribute(valid.get(), "meaning",
-                        std::string("1: D2min computed; 0: fewer than 2 neighbours or their bonds (nearly) collinear "
-                                    "(Y singular): value, per_neighbour and F are NaN"));
-    io::write_attribute(valid.get(), "units", std::string("1"));
-  }
   io::Group reference = io::open_group(file.get(), "/reference");
   const hsize_t two = 2;
   const double box[2] = {r.reference_box.lx, r.reference_box.ly};

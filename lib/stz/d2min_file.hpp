@@ -34,6 +34,7 @@ struct D2minResult {
   double reference_time = 0, current_time = 0;
   double offset_change = 0, strain = 0;  // Δδ (accumulated, signed) and Δδ/L_y
   std::int64_t valid_count = 0;
+  std::string trajectory_sha256;  // of TRAJ, hashed once (the branch check and the provenance)
 };
 
 // Reads the frames (one at a time: memory O(N) whatever the number of frames between them),

@@ -102,7 +102,7 @@ int d2min_command(int argc, char** argv) {
   parameters.set("program", "gf-stz");
   parameters.set("command", "d2min");
   parameters.set("command_line", "gf-stz " + cli.command_line());
-  io::add_input(parameters, request.trajectory);
+  io::add_hashed_input(parameters, request.trajectory, result.trajectory_sha256);
   if (!request.branch.empty()) io::add_input(parameters, request.branch, 0, "branch");
   stz::write_d2min(out.temp_path(), result, parameters);
   out.commit();

@@ -57,11 +57,9 @@ int fit_command(int argc, char** argv) {
     s.correlation = cli.text("correlation");
     if (s.correlation.empty()) throw UsageError("option --correlation: no file given");
   }
+  // The dense rule's checks (one of the two given, a positive ratio) are analyse_fit's.
   if (cli.given("min-packing-fraction")) s.min_packing_fraction = cli.real("min-packing-fraction");
-  if (s.correlation.empty() && !cli.given("min-packing-fraction"))
-    throw UsageError("no dense rule: give --correlation TABLE.h5 or --min-packing-fraction NU");
   s.dense_ratio = cli.real("dense-ratio");
-  if (!(s.dense_ratio > 0)) throw UsageError("option --dense-ratio: must be > 0, got " + cli.text("dense-ratio"));
   const std::string xi = cli.text("xi");
   if (xi != "abs" && xi != "signed") throw UsageError("option --xi: expected abs or signed, got '" + xi + "'");
   s.signed_xi = xi == "signed";
