@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "dynamics/branch_free.hpp"
 #include "dynamics/capacity.hpp"
+#include "dynamics/contact_law.hpp"
 #include "neighbours/cell_list.hpp"
 
 namespace granflow {
@@ -455,43 +456,6 @@ void Engine::load_bodies() {
 
 namespace {
 
-// New normal impulse of a local solve: P_n ← max(0, P_n + (b_n − u_n)/W_nn).
-template <class Row, class Body>
-inline double normal_impulse(const Row& r, const Body& a, const Body& b) {
-  const double un = (a.vx - b.vx) * r.nx + (a.vy - b.vy) * r.ny;
-  return positive_part(r.pn + (r.bn - un) * r.inv_w);
-}
-
-// Normal correction a local solve would make without friction (P_t = 0 throughout): the
-// number correction(r, local_solve(r, a, b, 0)) gives, without its clamp and jumps.
-template <class Row, class Body>
-inline double normal_correction(const Row& r, const Body& a, const Body& b) {
-  return std::fabs(normal_impulse(r, a, b) - r.pn) / r.inv_w;
-}
-
-// Exact solution of one contact's local problem given the other impulses: the normal
-// impulse does not change u_t (W_nt = 0 for disks), so normal then tangential is exact.
-// Templates only so that these helpers can take the engine's private Row and Body.
-struct Local {
-  double pn, pt;
-};
-
-template <class Row, class Tangent, class Body>
-inline Local local_solve(const Row& r, const Tangent& t, const Body& a, const Body& b, double mu) {
-  const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-  const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-  const double pn = normal_impulse(r, a, b);
-  const double limit = mu * pn;
-  const double pt = std::clamp(t.pt + (t.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
-  return {pn, pt};
-}
-
-// Velocity correction made by a local solve: |ΔP_n|·W_nn and |ΔP_t|·W_tt.
-template <class Row, class Tangent>
-inline double correction(const Row& r, const Tangent& t, const Local& l) {
-  return std::max(std::fabs(l.pn - r.pn), 3 * std::fabs(l.pt - t.pt)) / r.inv_w;
-}
-
 // See solve_cluster(). 10 also stops the blow-up but undoes most solves in a pile coming to
 // rest (5° incline: 899 sweeps per step instead of 63, steps at the sweep cap); 100 and 1000
 // undo none there.
@@ -659,16 +623,10 @@ double Engine::sweep(bool forward, double upsilon) {
         Row& r = row_data[c];
         Body& a = body_data[r.i];
         Body& b = body_data[r.j];
-        const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-        const double un = dvx * r.nx + dvy * r.ny;
-        const double pn = positive_part(r.pn + (r.bn - un) * r.inv_w);
-        const double dpn = pn - r.pn;
         if constexpr (Friction) {
-          const double ut = dvy * r.nx - dvx * r.ny - (a.spin + b.spin);
-          const double limit = mu * pn;
           Tangent& g = tangent_data[c];
-          const double pt = std::clamp(g.pt + (g.bt - ut) * (r.inv_w * (1.0 / 3.0)), -limit, limit);
-          const double dpt = pt - g.pt;
+          const auto [pn, pt] = local_solve(r, g, a, b, mu);
+          const double dpn = pn - r.pn, dpt = pt - g.pt;
           // Compare before dividing: the division is only needed for a new maximum.
           const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
           if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
@@ -683,6 +641,8 @@ double Engine::sweep(bool forward, double upsilon) {
           b.spin -= 2 * b.inv_mass * dpt;
         } else {
           // μ = 0: P_t stays 0 and the spins never change.
+          const double pn = normal_impulse(r, a, b);
+          const double dpn = pn - r.pn;
           const double d = std::fabs(dpn);
           if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
           // Whether a row bears flips about as often as not: integer arithmetic on the bits
