@@ -18,3 +18,20 @@ void fit_capacity(std::vector<T>& v, std::size_t n) {
 }
 
 }  // namespace granflow
+
+namespace granflow {
+
+// resize() under fit_capacity(); the contents are refilled by the caller.
+template <class T>
+void refill(std::vector<T>& v, std::size_t n) {
+  fit_capacity(v, n);
+  v.resize(n);
+}
+
+// Heap bytes a vector holds (its capacity, not its size): what the engine's parts report.
+template <class T>
+std::size_t heap_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace granflow

@@ -62,8 +62,11 @@
 
 #include "core/contact_records.hpp"
 #include "core/vec.hpp"
+#include "dynamics/broad_phase.hpp"
+#include "dynamics/cluster_solver.hpp"
+#include "dynamics/contact_rows.hpp"
 #include "dynamics/grains.hpp"
-#include "dynamics/sparse_ldl.hpp"
+#include "dynamics/tiling.hpp"
 #include "geometry/box.hpp"
 
 namespace granflow {
@@ -140,7 +143,7 @@ class Engine {
 
   const GrainState& state() const { return state_; }
   const Box& box() const { return box_; }
-  const ContactRecords& contacts() const { return records_; }
+  const ContactRecords& contacts() const { return contacts_.records(); }
   const StepReport& last_report() const { return report_; }
   double rate() const { return rate_; }
   double dt() const { return dt_; }
@@ -163,67 +166,13 @@ class Engine {
   void restore(std::int64_t step, const ContactMemory& memory);
 
  private:
-  // Hot data of the Gauss–Seidel loop: 48 bytes per contact for the normal law, and
-  // with friction 16 more in a separate array, which the frictionless path (the default)
-  // never reads or writes. Bodies hold s = R·ω so that u_t needs no radii
-  // (ΔS = −2·P_t/m for I = mR²/2). Bodies are in the internal spatial order, so
-  // neighbouring contacts touch nearby memory.
-  struct alignas(32) Body {
-    double vx, vy, spin, inv_mass;
-  };
-  struct alignas(16) Row {
-    int i, j;  // bodies of grains i < j
-    double nx, ny;
-    double bn;     // bound on the raw (v_i − v_j)·n̂
-    double inv_w;  // 1/W_nn = reduced mass; 1/W_tt = inv_w/3
-    double pn;
-  };
-  struct Tangent {
-    double bt;  // bound on the raw (v_i − v_j)·t̂ − s_i − s_j
-    double pt;
-  };
-  // 24 bytes: grain j and the image k share a word (N < 2³⁰ grains, |k| ≤ 1).
-  struct Candidate {
-    int i;                 // grain i < j
-    std::uint32_t packed;  // j | (k + 1) << 30
-    double dx, dy;         // r_i − r_j (minimum image)
-    Candidate() = default;
-    Candidate(int i_, int j_, int image_, double dx_, double dy_)
-        : i(i_), packed(std::uint32_t(j_) | std::uint32_t(image_ + 1) << 30), dx(dx_), dy(dy_) {}
-    int j() const { return int(packed & 0x3fffffffu); }
-    int image() const { return int(packed >> 30) - 1; }
-  };
-  static_assert(sizeof(Candidate) == 24);
-
   void detect(bool moved);
-  double select_candidates(std::size_t first, std::size_t last, std::vector<Candidate>& out) const;
-  void rebuild_pairs();
-  void order_bodies();
-  void build_rows();
-  void build_row(std::size_t c, std::size_t& p);
-  int row_tile(int a, int b, int image) const;
-  struct EdgeFlags {
-    bool first = false, last = false;
-  };
-  EdgeFlags edge_flags(const std::vector<std::uint8_t>& flags) const;
-  bool near_flagged(const std::vector<std::uint8_t>& flags, int strip, int block, EdgeFlags edges) const;
-  void load_bodies();
   void select_working_set();
   void group_working_set();
   void solve();
   template <bool Friction>
   double sweep(bool forward, double upsilon);
   double check(bool everywhere);
-  struct ClusterScratch;
-  void solve_clusters();
-  bool solve_cluster(int k, ClusterScratch& w, int threads);
-  void assemble_cluster(ClusterScratch& w, int threads) const;
-  void order_loops(ClusterScratch& w, int first);
-  double cluster_residual(const ClusterScratch& w, int threads) const;
-  void apply_normal_impulse(const Row& r, double dpn);
-  void record_contacts();
-  double dissipated(const Row& r, std::size_t c, int i, int j, double shift) const;
-  void store_bodies();
   void advance();
 
   GrainState state_;
@@ -233,27 +182,11 @@ class Engine {
   SolverSettings settings_;
   Vec2 gravity_;
   double alert_min_ = 0, alert_ = 0, max_radius_ = 0, vrel_ = 0;
-  double tile_margin_ = 0;  // smallest gap the tiles are sized for (see order_bodies())
   std::int64_t steps_ = 0, unconverged_ = 0;
 
-  // Pair list: grains i < j, sorted, whose gap was below reach_ when it was built;
-  // drift_ bounds how much any gap may have shrunk since.
-  double skin_ = 0, reach_ = 0, drift_ = 0;
-  std::vector<std::array<int, 2>> pairs_;
-  std::vector<Candidate> candidates_;                     // sorted by (i, j)
-  std::vector<std::vector<Candidate>> candidate_blocks_;  // per block of pairs, with threads
-  std::vector<int> bucket_, scratch_;
-
-  std::vector<int> body_of_;              // grain → body (internal spatial order)
-  std::vector<int> strip_of_, block_of_;  // body → strip and column block of its tile
-  int strips_ = 1, tiles_ = 1;            // strips, and tiles per strip (tile = strip · tiles_ + block)
-  std::vector<int> row_of_;               // candidate → row (sweep order)
-  std::vector<Body> bodies_;
-  std::vector<Row> rows_;
-  std::vector<Tangent> tangent_;  // per row with friction; empty without
-  std::vector<std::array<int, 2>>
-      row_bodies_;            // per row: its mobile bodies (−1: fixed), compact for the cluster passes
-  std::vector<int> row_age_;  // per candidate: age of the matched contact of the previous step, else 0
+  BroadPhase broad_;
+  Tiling tiling_;
+  ContactRows contacts_;
 
   // Gauss–Seidel state: the working set (rows grouped by tile, ascending within a tile;
   // tile t holds work_[work_start_[t]] … work_[work_start_[t + 1] − 1]), its membership,
@@ -264,39 +197,11 @@ class Engine {
   std::vector<std::uint8_t> moved_;    // per tile: corrected by Υ or more when last swept (or since marked)
   std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
   std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
-  std::vector<int> tile_rows_;         // rows of tile t (see row_tile()): tile_rows_[t] … tile_rows_[t + 1] − 1
   int status_changes_ = 0, active_rows_ = 0;
 
-  // Cluster solves: the active rows, union–find over bodies, the hot clusters' rows by cluster
-  // and by body, rows per body left to peel, and each row's unknown in its cluster (−1 if none).
-  struct ActiveRow {
-    int c, i, j;  // row, its mobile bodies (−1: fixed)
-    int cluster;  // root of its cluster, then the cluster's number
-  };
-  std::vector<ActiveRow> active_;
-  std::vector<int> large_;                // clusters solved with all threads
-  std::vector<int> cluster_order_;        // the others, in the order the threads take them
-  std::vector<std::size_t> chunk_start_;  // first contact of each chunk of candidates
-  std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
-  std::vector<int> degree_, unknown_;
-  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
-  // by columns), right-hand side and factor.
-  struct ClusterScratch {
-    std::vector<int> order, peel, start, row;
-    std::vector<double> value, rhs;
-    SparseLdl ldl;
-  };
-  std::vector<ClusterScratch> cluster_scratch_;
+  ClusterSolver clusters_;
 
-  // Memory of the previous step, sorted by key = (i << 32) | j.
-  std::vector<std::uint64_t> prev_key_;
-  std::vector<double> prev_fn_, prev_ft_;  // forces, as recorded
-  std::vector<int> prev_age_;
-
-  ContactRecords records_;
-  std::vector<double> dissipated_;  // per recorded contact: its share of dissipated_energy
   StepReport report_;
-  double overlap_ = 0;
 };
 
 }  // namespace granflow

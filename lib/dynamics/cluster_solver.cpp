@@ -1,0 +1,366 @@
+#include "dynamics/cluster_solver.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <utility>
+
+#include <omp.h>
+
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
+
+#include "dynamics/branch_free.hpp"
+#include "dynamics/capacity.hpp"
+#include "dynamics/contact_law.hpp"
+#include "dynamics/parallel.hpp"
+
+namespace granflow {
+
+namespace {
+
+// See solve_cluster(). 10 also stops the blow-up but undoes most solves in a pile coming to
+// rest (5° incline: 899 sweeps per step instead of 63, steps at the sweep cap); 100 and 1000
+// undo none there.
+constexpr double kClusterSolveGrowth = 100;
+
+// Clusters of at least this many active rows are factorised by all threads together.
+constexpr int kSharedClusterRows = 2000;
+
+}  // namespace
+
+// One exact solve, for the current active set, of each cluster of active contacts (joined
+// through mobile grains) in which some contact was still corrected by Υ or more in the last
+// sweep: W_AA·ΔP_A = b_A − u_A on its normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
+// Clusters share no mobile grain, so threads take them in any order.
+int ClusterSolver::solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work,
+                         std::uint8_t* row_flags, std::uint8_t* moved, std::uint8_t* touched, int threads) {
+  const int n = int(contacts.bodies().size());
+  rows_ = contacts.rows().data();
+  bodies_ = contacts.bodies().data();
+  row_bodies_ = contacts.row_bodies().data();
+  row_flags_ = row_flags;
+  int largest = 0;
+  // The active rows (all in the working set) with their mobile bodies (−1 for a fixed one,
+  // which couples nothing), read once: the passes below touch only this compact copy.
+  gather(
+      std::ptrdiff_t(work.size()), threads, chunk_start_,
+      [&](std::ptrdiff_t q) { return (row_flags_[work[q]] & kBearing) != 0; },
+      [&](std::size_t kept) {
+        fit_capacity(active_, kept);
+        active_.resize(kept);
+      },
+      [&](std::ptrdiff_t q, std::size_t k) {
+        const int c = work[q];
+        active_[k] = {c, row_bodies_[c][0], row_bodies_[c][1], 0};
+      });
+  // Clusters by union–find over bodies; a row's cluster is that of one of its mobile bodies.
+  // Links always go from the larger root to the smaller, so every cluster's root ends as its
+  // smallest body whatever the order of the unions: the threads unite rows concurrently
+  // (a link is a compare-and-swap that fails if its root was linked meanwhile; path halving
+  // only ever points a body at one of its ancestors) and the result is the same for any N.
+  const std::ptrdiff_t rows = std::ptrdiff_t(active_.size());
+  cluster_.resize(n);
+  cluster_id_.resize(n);
+  parallel_for(threads, n, [&](int b) {
+    cluster_[b] = b;
+    cluster_id_[b] = -2;
+  });
+  // Relaxed atomics (plain moves on x86) and the compare-and-swap only with threads: a
+  // locked instruction per link would cost one thread a quarter of the union–find.
+  const bool shared = threads > 1;
+  auto parent = [&](int b) { return std::atomic_ref<int>(cluster_[b]); };
+  auto root = [&](int b) {
+    for (int p; (p = parent(b).load(std::memory_order_relaxed)) != b;) {
+      const int grandparent = parent(p).load(std::memory_order_relaxed);
+      parent(b).store(grandparent, std::memory_order_relaxed);
+      b = grandparent;
+    }
+    return b;
+  };
+  auto link = [&](int x, int y) {  // x > y; false if x is no longer a root
+    if (!shared) return cluster_[x] = y, true;
+    return parent(x).compare_exchange_strong(x, y, std::memory_order_relaxed);
+  };
+  parallel_for(threads, rows, [&](std::ptrdiff_t q) {
+    const ActiveRow& a = active_[q];
+    if (a.i < 0 || a.j < 0) return;
+    for (;;) {
+      const int x = root(a.i), y = root(a.j);
+      if (x == y || link(std::max(x, y), std::min(x, y))) break;
+    }
+  });
+  // Hot clusters are numbered in order of appearance; cluster_id_ per root: −2 cold, −1 hot.
+  parallel_for(threads, rows, [&](std::ptrdiff_t q) {
+    ActiveRow& a = active_[q];
+    a.cluster = root(a.i >= 0 ? a.i : a.j);
+    if (row_flags_[a.c] & kHot) std::atomic_ref<int>(cluster_id_[a.cluster]).store(-1, std::memory_order_relaxed);
+  });
+  int clusters = 0;
+  std::size_t kept = 0;
+  for (ActiveRow a : active_) {
+    int& id = cluster_id_[a.cluster];
+    if (id == -2) continue;
+    if (id == -1) id = clusters++;
+    a.cluster = id;
+    active_[kept++] = a;
+  }
+  active_.resize(kept);
+
+  // The rows of each cluster (in sweep order), and of each mobile body.
+  counting_sort(
+      clusters, cluster_start_,
+      [&](auto emit) {
+        for (const ActiveRow& a : active_) emit(a.cluster, a.c);
+      },
+      [&](std::size_t total) { refill(cluster_rows_, total); }, [&](int c, int slot) { cluster_rows_[slot] = c; });
+  counting_sort(
+      n, body_start_,
+      [&](auto emit) {
+        for (const ActiveRow& a : active_) {
+          if (a.i >= 0) emit(a.i, a.c);
+          if (a.j >= 0) emit(a.j, a.c);
+        }
+      },
+      [&](std::size_t total) { refill(body_rows_, total); }, [&](int c, int slot) { body_rows_[slot] = c; });
+  degree_.resize(n);  // the number of rows at each body
+  for (int b = 0; b < n; ++b) degree_[b] = body_start_[b + 1] - body_start_[b];
+
+  // Clusters go to the threads whole, largest first; one that holds more than a thread's
+  // share of all the rows (and at least kSharedClusterRows: the percolating cluster) would
+  // keep one thread busy while the others wait, so it is factorised by all threads together
+  // instead, after the others. The clusters are independent: the same result either way.
+  scratch_.resize(threads);
+  large_.clear();
+  cluster_order_.clear();
+  const int shared_at = std::max(kSharedClusterRows, int(active_.size()) / threads);
+  auto size = [&](int k) { return cluster_start_[k + 1] - cluster_start_[k]; };
+  for (int k = 0; k < clusters; ++k) {
+    largest = std::max(largest, size(k));
+    (threads > 1 && size(k) >= shared_at ? large_ : cluster_order_).push_back(k);
+  }
+  if (threads > 1)
+    std::stable_sort(cluster_order_.begin(), cluster_order_.end(), [&](int a, int b) { return size(a) > size(b); });
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(dynamic)
+  for (std::size_t q = 0; q < cluster_order_.size(); ++q)
+    solve_cluster(cluster_order_[q], scratch_[omp_get_thread_num()], 1);
+  for (int k : large_) solve_cluster(k, scratch_[0], threads);
+  // Velocities changed only at the bodies of these rows: their tiles are swept next (the
+  // rows are in ascending order, as in the working set, and rows are stored tile by tile).
+  int tile = 0;
+  for (const ActiveRow& a : active_) {
+    while (tiling.first_row(tile + 1) <= a.c) ++tile;
+    moved[tile] = touched[tile] = 1;
+  }
+  return largest;
+}
+
+// The solve of cluster k (see solve()). Returns false when its factor would be too
+// large to pay off (nothing changed) or its result was undone (impulses restored exactly,
+// velocities up to round-off).
+bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
+  const int* members = cluster_rows_.data() + cluster_start_[k];
+  const int m = cluster_start_[k + 1] - cluster_start_[k];
+  // Numbering (w.order[u] = row of unknown u): first peel leaves, bodies left with a single
+  // unnumbered row, since such a row eliminates without fill-in (clusters are mostly trees);
+  // then the loops that remain, in sweep order.
+  w.order.clear();
+  auto number = [&](int c) {
+    unknown_[c] = int(w.order.size());
+    w.order.push_back(c);
+  };
+  // (Bodies from the compact row_bodies, −1 for a fixed one.)
+  w.peel.clear();
+  for (int q = 0; q < m; ++q)
+    for (int b : row_bodies_[members[q]])
+      if (b >= 0 && degree_[b] == 1) w.peel.push_back(b);
+  for (std::size_t q = 0; q < w.peel.size(); ++q) {
+    const int b = w.peel[q];
+    for (int p = body_start_[b]; p < body_start_[b + 1]; ++p) {
+      const int c = body_rows_[p];
+      if (unknown_[c] >= 0) continue;
+      number(c);
+      const auto [i, j] = row_bodies_[c];
+      const int other = i == b ? j : i;
+      if (other >= 0 && --degree_[other] == 1) w.peel.push_back(other);
+    }
+  }
+  const int peeled = int(w.order.size());
+  for (int q = 0; q < m; ++q)
+    if (unknown_[members[q]] < 0) number(members[q]);
+
+  // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in sweep
+  // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
+  // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
+  auto factor = [&](std::size_t fill) {
+    assemble_cluster(w, threads);
+    return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
+  };
+  bool factored = factor(4);
+  if (!factored && peeled < m) {
+    order_loops(w, peeled);
+    factored = factor(8);
+  }
+  bool accepted = false;
+  if (factored) {
+    w.ldl.solve(w.rhs);
+    // The step is undone if it multiplies the cluster's largest local correction by more
+    // than kClusterSolveGrowth. When the active set is hyperstatic (jammed, ν near ν_c)
+    // its equations can be inconsistent and near-singular: the solve then returns huge
+    // self-stresses whose clamping at P_n = 0 would throw the velocities off by orders of
+    // magnitude. (A good step may raise the correction a little: the clamping.)
+    const double before = cluster_residual(w, threads);
+    auto set_normal_impulse = [&](int c, double pn) {
+      Row& r = rows_[c];
+      apply_normal_impulse(r, pn - r.pn);
+      r.pn = pn;
+      row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
+    };
+    for (int u = 0; u < m; ++u) {
+      const double pn = rows_[w.order[u]].pn, solved = positive_part(pn + w.rhs[u]);
+      w.rhs[u] = pn;  // kept for an undo
+      set_normal_impulse(w.order[u], solved);
+    }
+    accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
+    if (!accepted)
+      for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
+  }
+  for (int c : w.order) unknown_[c] = -1;
+  return accepted;
+}
+
+// Adds the normal impulse dpn of row r to its bodies' velocities. Fixed bodies (shared
+// between clusters) are left alone: they would not move anyway.
+void ClusterSolver::apply_normal_impulse(const Row& r, double dpn) {
+  for (const auto& [body, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
+    Body& b = bodies_[body];
+    if (b.inv_mass == 0) continue;
+    b.vx += sign * b.inv_mass * dpn * r.nx;
+    b.vy += sign * b.inv_mass * dpn * r.ny;
+  }
+}
+
+// Largest velocity correction a local solve would make on the cluster's rows (μ = 0).
+double ClusterSolver::cluster_residual(const Scratch& w, int threads) const {
+  const std::ptrdiff_t m = std::ptrdiff_t(w.order.size());
+  auto row = [&](std::ptrdiff_t u) {
+    const Row& r = rows_[w.order[u]];
+    return normal_correction(r, bodies_[r.i], bodies_[r.j]);
+  };
+  double worst = 0;
+  // Most clusters are small and solved by one thread: there, even a parallel region that
+  // runs on one thread (≈ 0.2 µs) would cost more than the rows.
+  if (threads <= 1) {
+    for (std::ptrdiff_t u = 0; u < m; ++u) worst = std::max(worst, row(u));
+    return worst;
+  }
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : worst)
+  for (std::ptrdiff_t u = 0; u < m; ++u) worst = std::max(worst, row(u));
+  return worst;
+}
+
+// The cluster's matrix, upper triangle by columns in unknown order, and right-hand side:
+// W_ab = Σ over the mobile bodies shared by rows a and b of s_a·s_b·(n̂_a·n̂_b)/m, with
+// s = +1 for the body of grain i, −1 for that of grain j; b_a − u_a at the current velocities.
+// With threads, columns are counted, then filled in parallel (same entries, same order).
+void ClusterSolver::assemble_cluster(Scratch& w, int threads) const {
+  const int m = int(w.order.size());
+  w.start.assign(m + 1, 0);
+  w.rhs.resize(m);
+  // Calls emit(row, value) for each entry of column u and below (the upper triangle holds
+  // those with row ≤ u), top to bottom as found; sets rhs[u].
+  auto column = [&](int u, auto&& emit) {
+    const Row& a = rows_[w.order[u]];
+    const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
+    w.rhs[u] = a.bn - ((bi.vx - bj.vx) * a.nx + (bi.vy - bj.vy) * a.ny);
+    for (int body : {a.i, a.j}) {
+      const double inv_mass = bodies_[body].inv_mass;
+      if (inv_mass == 0) continue;
+      const double sa = body == a.i ? 1.0 : -1.0;
+      for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
+        const int other = unknown_[body_rows_[p]];
+        const Row& b = rows_[body_rows_[p]];
+        const double sb = body == b.i ? 1.0 : -1.0;
+        emit(other, sa * sb * (a.nx * b.nx + a.ny * b.ny) * inv_mass);  // kept for other ≤ u
+      }
+    }
+  };
+  if (threads <= 1) {
+    // Every entry found is written, and kept by advancing the end or not: whether a
+    // neighbour's unknown comes before u is as good as random, and a jump would mispredict.
+    std::size_t bound = 0;
+    for (int u = 0; u < m; ++u)
+      for (int body : row_bodies_[w.order[u]])
+        if (body >= 0) bound += std::size_t(body_start_[body + 1] - body_start_[body]);
+    fit_capacity(w.row, bound);
+    fit_capacity(w.value, bound);
+    w.row.resize(bound);
+    w.value.resize(bound);
+    int* const row = w.row.data();
+    double* const value = w.value.data();
+    std::size_t q = 0;
+    for (int u = 0; u < m; ++u) {
+      column(u, [&](int other, double v) {
+        row[q] = other;
+        value[q] = v;
+        q += other <= u;
+      });
+      w.start[u + 1] = int(q);
+    }
+    w.row.resize(q);
+    w.value.resize(q);
+    return;
+  }
+  parallel_for(threads, m, [&](int u) { column(u, [&](int other, double) { w.start[u + 1] += other <= u; }); });
+  for (int u = 0; u < m; ++u) w.start[u + 1] += w.start[u];
+  fit_capacity(w.row, w.start[m]);
+  fit_capacity(w.value, w.start[m]);
+  w.row.resize(w.start[m]);
+  w.value.resize(w.start[m]);
+  parallel_for(threads, m, [&](int u) {
+    int q = w.start[u];
+    column(u, [&](int other, double value) {
+      if (other > u) return;
+      w.row[q] = other;
+      w.value[q++] = value;
+    });
+  });
+}
+
+// Reorders the cluster's unknowns from `first` on (the loops left after peeling) by
+// approximate minimum degree (Eigen's AMD) on their coupling pattern.
+void ClusterSolver::order_loops(Scratch& w, int first) {
+  const int q = int(w.order.size()) - first;
+  std::vector<Eigen::Triplet<double>> pattern;
+  for (int t = 0; t < q; ++t) {
+    const Row& a = rows_[w.order[first + t]];
+    for (int body : {a.i, a.j}) {
+      if (bodies_[body].inv_mass == 0) continue;
+      for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
+        const int u = unknown_[body_rows_[p]] - first;
+        if (u >= 0 && u <= t) pattern.emplace_back(t, u, 1.0);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> loops(q, q);
+  loops.setFromTriplets(pattern.begin(), pattern.end());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  Eigen::AMDOrdering<int>()(loops, order);  // order.indices()[k]: the k-th to eliminate
+  w.peel.assign(w.order.begin() + first, w.order.end());
+  for (int k = 0; k < q; ++k) {
+    const int c = w.peel[order.indices()[k]];
+    w.order[first + k] = c;
+    unknown_[c] = first + k;
+  }
+}
+
+std::size_t ClusterSolver::bytes() const {
+  std::size_t scratch = heap_bytes(scratch_);
+  for (const Scratch& w : scratch_)
+    scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
+               heap_bytes(w.value) + heap_bytes(w.rhs) + w.ldl.allocated_bytes();
+  return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
+         heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
+         heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);
+}
+
+}  // namespace granflow

@@ -1,0 +1,68 @@
+#pragma once
+// Exact solves of clusters of active contacts. Once Gauss–Seidel leaves the set of active
+// contacts (P_n > 0) nearly unchanged, each cluster of them (joined through mobile grains)
+// still above the tolerance is solved exactly for that set: the cluster's Delassus system,
+// assembled row by row, factorised by a sparse LDLᵀ after peeling its tree-like parts and
+// ordering its loops; Gauss–Seidel then corrects the set if it was wrong. This replaces the
+// slow linear tail of Gauss–Seidel on large, tree-like clusters. Frictionless rows only
+// (one unknown per row, P_n); a frictional row would add a second (P_t) to the numbering.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "dynamics/contact_rows.hpp"
+#include "dynamics/sparse_ldl.hpp"
+#include "dynamics/tiling.hpp"
+
+namespace granflow {
+
+class ClusterSolver {
+ public:
+  // Before the passes of a step over `rows` rows.
+  void reset(std::size_t rows) { unknown_.assign(rows, -1); }
+  // One pass: solves each cluster of the bearing rows of the working set `work` (row_flags:
+  // kBearing) that holds a hot row (kHot), updating the impulses, the bodies' velocities and
+  // the bearing flags, and flags the tiles of the rows it solved in moved and touched.
+  // Returns the number of active rows of the largest cluster.
+  int solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work, std::uint8_t* row_flags,
+            std::uint8_t* moved, std::uint8_t* touched, int threads);
+
+  std::size_t bytes() const;
+
+ private:
+  // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
+  // by columns), right-hand side and factor.
+  struct Scratch {
+    std::vector<int> order, peel, start, row;
+    std::vector<double> value, rhs;
+    SparseLdl ldl;
+  };
+  bool solve_cluster(int k, Scratch& w, int threads);
+  void assemble_cluster(Scratch& w, int threads) const;
+  void order_loops(Scratch& w, int first);
+  double cluster_residual(const Scratch& w, int threads) const;
+  void apply_normal_impulse(const Row& r, double dpn);
+
+  // The rows, bodies and flags of the pass under way (see solve()).
+  Row* rows_ = nullptr;
+  Body* bodies_ = nullptr;
+  const std::array<int, 2>* row_bodies_ = nullptr;
+  std::uint8_t* row_flags_ = nullptr;
+
+  // The active rows, union–find over bodies, the hot clusters' rows by cluster and by body,
+  // rows per body left to peel, and each row's unknown in its cluster (−1 if none).
+  struct ActiveRow {
+    int c, i, j;  // row, its mobile bodies (−1: fixed)
+    int cluster;  // root of its cluster, then the cluster's number
+  };
+  std::vector<ActiveRow> active_;
+  std::vector<int> large_;                // clusters solved with all threads
+  std::vector<int> cluster_order_;        // the others, in the order the threads take them
+  std::vector<std::size_t> chunk_start_;  // first row of each chunk of the working set
+  std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
+  std::vector<int> degree_, unknown_;
+  std::vector<Scratch> scratch_;
+};
+
+}  // namespace granflow
