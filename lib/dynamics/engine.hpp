@@ -65,6 +65,7 @@
 #include "dynamics/broad_phase.hpp"
 #include "dynamics/cluster_solver.hpp"
 #include "dynamics/contact_rows.hpp"
+#include "dynamics/gauss_seidel.hpp"
 #include "dynamics/grains.hpp"
 #include "dynamics/tiling.hpp"
 #include "geometry/box.hpp"
@@ -167,12 +168,7 @@ class Engine {
 
  private:
   void detect(bool moved);
-  void select_working_set();
-  void group_working_set();
   void solve();
-  template <bool Friction>
-  double sweep(bool forward, double upsilon);
-  double check(bool everywhere);
   void advance();
 
   GrainState state_;
@@ -188,17 +184,7 @@ class Engine {
   Tiling tiling_;
   ContactRows contacts_;
 
-  // Gauss–Seidel state: the working set (rows grouped by tile, ascending within a tile;
-  // tile t holds work_[work_start_[t]] … work_[work_start_[t + 1] − 1]), its membership,
-  // and per row whether the last sweep still corrected it by Υ or more and whether it carries
-  // a normal impulse (flags kHot, kBearing; without friction only).
-  std::vector<int> work_, work_start_;
-  std::vector<std::uint8_t> in_work_, row_flags_;
-  std::vector<std::uint8_t> moved_;    // per tile: corrected by Υ or more when last swept (or since marked)
-  std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
-  std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
-  int status_changes_ = 0, active_rows_ = 0;
-
+  GaussSeidel gauss_seidel_;
   ClusterSolver clusters_;
 
   StepReport report_;
