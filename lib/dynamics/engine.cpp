@@ -118,7 +118,7 @@ void Engine::solve() {
   const int threads = settings_.threads;
   const bool clusters = settings_.cluster_solves && mu == 0;
   int next_cluster_solve = 2, cluster_wait = 1;
-  // Confirms on the final velocities, on every candidate (see GaussSeidel::check()).
+  // The residual check (see GaussSeidel::check()), counted in contact_updates.
   auto check = [&](bool everywhere) {
     return gauss_seidel_.check(contacts_, tiling_, mu, upsilon, everywhere, settings_.full_checks, threads,
                                rep.contact_updates);
@@ -141,8 +141,8 @@ void Engine::solve() {
                100 * gauss_seidel_.status_changes() <= gauss_seidel_.active_rows()) {
       // The active set has (nearly) settled: solve its clusters exactly. While it keeps
       // changing, each solve waits twice as many sweeps as the one before, so that their
-      // number stays logarithmic in the sweeps of the step.
-      // Marks the tiles of the rows it solved.
+      // number stays logarithmic in the sweeps of the step. The pass marks the tiles of the
+      // rows it solved, to be swept next.
       const int largest = clusters_.solve(contacts_, tiling_, gauss_seidel_.work(), gauss_seidel_.row_flags(),
                                           gauss_seidel_.moved(), gauss_seidel_.touched(), threads);
       rep.largest_cluster = std::max(rep.largest_cluster, largest);

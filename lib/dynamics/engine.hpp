@@ -54,6 +54,11 @@
 //    clusters go to the threads whole; large ones (the percolating one) are factorised by
 //    all threads together, by subtrees of the elimination tree, with the same result.
 //
+// The parts of a step, each in its own file: BroadPhase (candidates), Tiling (internal order,
+// strips and tiles), ContactRows (rows, warm start, records), contact_law.hpp (the local
+// laws), GaussSeidel (working set, sweeps, checks), ClusterSolver (exact cluster solves) and
+// parallel.hpp (the OpenMP helpers); Engine owns them and runs step() through them.
+//
 // The engine assumes disks with I = mR²/2 (W_tt = 3·W_nn) and a box at least two
 // search cutoffs (2·R_max + alert) wide, so that each pair has a single nearest image.
 #include <array>

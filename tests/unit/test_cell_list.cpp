@@ -73,7 +73,7 @@ TEST(CellListSearch, OpenBoxMatchesBruteForce) {
   EXPECT_EQ(cells.pairs(r), brute_pairs(box, r, 2.2));
 }
 
-// Threads search bands of cell rows (Engine::rebuild_pairs): any partition of the rows into
+// Threads search bands of cell rows (BroadPhase::rebuild): any partition of the rows into
 // bands must visit every pair exactly once, as the whole search does, with the same d.
 TEST(CellListSearch, BandsOfRowsPartitionThePairs) {
   Rng rng(21);
