@@ -3,6 +3,7 @@
 #include "dynamics/capacity.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <omp.h>
 
@@ -10,6 +11,19 @@ namespace granflow {
 
 bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<int>& row,
                        const std::vector<double>& value, double drop, std::size_t max_fill, int threads) {
+  return factor_any(n, start, row, value, nullptr, drop, max_fill, threads);
+}
+
+bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<int>& row,
+                       const std::vector<double>& upper, const std::vector<double>& lower, double drop,
+                       std::size_t max_fill, int threads) {
+  return factor_any(n, start, row, upper, lower.data(), drop, max_fill, threads);
+}
+
+bool SparseLdl::factor_any(int n, const std::vector<int>& start, const std::vector<int>& row,
+                           const std::vector<double>& value, const double* lower, double drop, std::size_t max_fill,
+                           int threads) {
+  unsymmetric_ = lower != nullptr;
   // Symbolic: elimination tree (parent_) and the nonzero count of each column of L.
   // Gives up as soon as the fill exceeds max_fill, so that a refusal costs no more than that.
   parent_.assign(n, -1);
@@ -38,6 +52,19 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
   value_.resize(start_[n]);
   diagonal_.assign(n, 0.0);
   work_.assign(n, 0.0);
+  if (unsymmetric_) {
+    fit_capacity(upper_value_, start_[n]);
+    upper_value_.resize(start_[n]);
+    lower_work_.assign(n, 0.0);
+  } else {
+    upper_value_.clear();
+    lower_work_.clear();
+  }
+  // One instantiation per kind: the symmetric rows keep exactly their operations.
+  auto factor_row_any = [&](int k, int* pattern, int size) {
+    return unsymmetric_ ? factor_row<true>(k, start.data(), row.data(), value.data(), lower, drop, pattern, size)
+                        : factor_row<false>(k, start.data(), row.data(), value.data(), lower, drop, pattern, size);
+  };
   pinned_flag_.assign(n, 0);
   pinned_ = 0;
   shared_rows_ = 0;
@@ -45,8 +72,7 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
   constexpr int kParallelRows = 2000;
   if (threads <= 1 || n < kParallelRows) {
     pattern_.resize(n);
-    for (int k = 0; k < n; ++k)
-      pinned_ += factor_row(k, start.data(), row.data(), value.data(), drop, pattern_.data(), n);
+    for (int k = 0; k < n; ++k) pinned_ += factor_row_any(k, pattern_.data(), n);
     return true;
   }
   // Each thread computes the rows of its subtrees in increasing order (all a row reads lies
@@ -68,16 +94,20 @@ bool SparseLdl::factor(int n, const std::vector<int>& start, const std::vector<i
     const int size = int(offset[t + 1] - offset[t]);
     int* pattern = pattern_.data() + offset[t];
     for (int k = 0; k < n; ++k)
-      if (bin_[k] == t) pinned += factor_row(k, start.data(), row.data(), value.data(), drop, pattern, size);
+      if (bin_[k] == t) pinned += factor_row_any(k, pattern, size);
   }
   for (int k = 0; k < n; ++k)
-    if (bin_[k] < 0) pinned += factor_row(k, start.data(), row.data(), value.data(), drop, pattern_.data(), n);
+    if (bin_[k] < 0) pinned += factor_row_any(k, pattern_.data(), n);
   pinned_ = pinned;
   return true;
 }
 
-bool SparseLdl::factor_row(int k, const int* start, const int* row, const double* value, double drop, int* pattern,
-                           int size) {
+// Row k: y = L⁻¹·A(0:k, k) (the upper column) gives D·U(0:k, k) and, for LDU,
+// z = U⁻ᵀ·A(k, 0:k)ᵀ (the lower row) gives L(k, 0:k)·D; the pivot is A(k, k) − Σ z_i·y_i/d_i.
+// Both solves follow the same pattern: the union of the tree paths from the column's entries.
+template <bool Unsymmetric>
+bool SparseLdl::factor_row(int k, const int* start, const int* row, const double* value, const double* lower,
+                           double drop, int* pattern, int size) {
   const int last = size;  // the pattern fills pattern[top, last); paths are built from 0 up
   int top = last;
   flag_[k] = k;
@@ -88,6 +118,7 @@ bool SparseLdl::factor_row(int k, const int* start, const int* row, const double
     if (pinned_flag_[i]) continue;  // a pinned unknown's column is zero
     if (i == k) diagonal += value[p];
     work_[i] += value[p];
+    if constexpr (Unsymmetric) lower_work_[i] += lower[p];
     int length = 0;
     for (; flag_[i] != k; i = parent_[i]) {
       pattern[length++] = i;
@@ -97,23 +128,46 @@ bool SparseLdl::factor_row(int k, const int* start, const int* row, const double
   }
   diagonal_[k] = work_[k];
   work_[k] = 0;
+  if constexpr (Unsymmetric) lower_work_[k] = 0;
   const int first = top;
   for (; top < last; ++top) {
     const int i = pattern[top];
     const double yi = work_[i];
     work_[i] = 0;
     const int end = start_[i] + count_[i];
-    for (int p = start_[i]; p < end; ++p) work_[index_[p]] -= value_[p] * yi;
-    const double l = yi / diagonal_[i];
-    diagonal_[k] -= l * yi;
-    index_[end] = k;
-    value_[end] = l;
+    if constexpr (Unsymmetric) {
+      const double zi = lower_work_[i];
+      lower_work_[i] = 0;
+      for (int p = start_[i]; p < end; ++p) {
+        work_[index_[p]] -= value_[p] * yi;
+        lower_work_[index_[p]] -= upper_value_[p] * zi;
+      }
+      const double l = zi / diagonal_[i];
+      diagonal_[k] -= l * yi;
+      index_[end] = k;
+      value_[end] = l;
+      upper_value_[end] = yi / diagonal_[i];
+    } else {
+      for (int p = start_[i]; p < end; ++p) work_[index_[p]] -= value_[p] * yi;
+      const double l = yi / diagonal_[i];
+      diagonal_[k] -= l * yi;
+      index_[end] = k;
+      value_[end] = l;
+    }
     ++count_[i];
   }
   // A pivot that is (nearly) zero marks a dependent unknown: pin it, i.e. make row
   // and column k of the factor those of the identity.
-  if (diagonal_[k] > drop * diagonal) return false;
-  for (int t = first; t < last; ++t) value_[start_[pattern[t]] + count_[pattern[t]] - 1] = 0;
+  if constexpr (Unsymmetric) {
+    if (std::fabs(diagonal_[k]) > drop * std::fabs(diagonal)) return false;
+  } else {
+    if (diagonal_[k] > drop * diagonal) return false;
+  }
+  for (int t = first; t < last; ++t) {
+    const int q = start_[pattern[t]] + count_[pattern[t]] - 1;
+    value_[q] = 0;
+    if constexpr (Unsymmetric) upper_value_[q] = 0;
+  }
   diagonal_[k] = 1;
   pinned_flag_[k] = 1;
   return true;
@@ -175,14 +229,17 @@ void SparseLdl::solve(std::vector<double>& x) const {
   for (int j = 0; j < n; ++j)
     for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[index_[p]] -= value_[p] * x[j];
   for (int j = 0; j < n; ++j) x[j] /= diagonal_[j];
+  const std::vector<double>& upper = unsymmetric_ ? upper_value_ : value_;
   for (int j = n - 1; j >= 0; --j)
-    for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[j] -= value_[p] * x[index_[p]];
+    for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[j] -= upper[p] * x[index_[p]];
 }
 
 std::size_t SparseLdl::allocated_bytes() const {
   return sizeof(int) * (parent_.capacity() + flag_.capacity() + count_.capacity() + start_.capacity() +
                         index_.capacity() + pattern_.capacity() + bin_.capacity()) +
-         sizeof(double) * (value_.capacity() + diagonal_.capacity() + work_.capacity()) + pinned_flag_.capacity();
+         sizeof(double) * (value_.capacity() + diagonal_.capacity() + work_.capacity() + upper_value_.capacity() +
+                           lower_work_.capacity()) +
+         pinned_flag_.capacity();
 }
 
 }  // namespace granflow
