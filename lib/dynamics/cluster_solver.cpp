@@ -33,7 +33,9 @@ constexpr int kSharedClusterRows = 2000;
 // sweep: W_AA·ΔP_A = b_A − u_A on its normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
 // Clusters share no mobile grain, so threads take them in any order.
 int ClusterSolver::solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work,
-                         std::uint8_t* row_flags, std::uint8_t* moved, std::uint8_t* touched, int threads) {
+                         std::uint8_t* row_flags, std::uint8_t* moved, std::uint8_t* touched, double mu, int threads) {
+  mu_ = mu;
+  tangents_ = mu > 0 ? contacts.tangents().data() : nullptr;
   const int n = int(contacts.bodies().size());
   rows_ = contacts.rows().data();
   bodies_ = contacts.bodies().data();
@@ -192,6 +194,10 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
   // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
   // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
   auto factor = [&](std::size_t fill) {
+    if (tangents_) {
+      assemble_frictional_cluster(w);
+      return w.ldl.factor(2 * m, w.start, w.row, w.value, w.lower, 1e-9, fill * w.row.size() + 64, threads);
+    }
     assemble_cluster(w, threads);
     return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
   };
@@ -203,28 +209,63 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
   bool accepted = false;
   if (factored) {
     w.ldl.solve(w.rhs);
-    // The step is undone if it multiplies the cluster's largest local correction by more
-    // than kClusterSolveGrowth. When the active set is hyperstatic (jammed, ν near ν_c)
-    // its equations can be inconsistent and near-singular: the solve then returns huge
-    // self-stresses whose clamping at P_n = 0 would throw the velocities off by orders of
-    // magnitude. (A good step may raise the correction a little: the clamping.)
-    const double before = cluster_residual(w, threads);
-    auto set_normal_impulse = [&](int c, double pn) {
-      Row& r = rows_[c];
-      apply_normal_impulse(r, pn - r.pn);
-      r.pn = pn;
-      row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
-    };
-    for (int u = 0; u < m; ++u) {
-      const double pn = rows_[w.order[u]].pn, solved = positive_part(pn + w.rhs[u]);
-      w.rhs[u] = pn;  // kept for an undo
-      set_normal_impulse(w.order[u], solved);
-    }
-    accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
-    if (!accepted)
-      for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
+    accepted = tangents_ ? apply_frictional_solution(w, threads) : apply_normal_solution(w, threads);
   }
   for (int c : w.order) unknown_[c] = -1;
+  return accepted;
+}
+
+// Applies the solved ΔP_n (in w.rhs), clamped at P_n ≥ 0. The step is undone if it multiplies
+// the cluster's largest local correction by more than kClusterSolveGrowth. When the active set
+// is hyperstatic (jammed, ν near ν_c) its equations can be inconsistent and near-singular: the
+// solve then returns huge self-stresses whose clamping at P_n = 0 would throw the velocities
+// off by orders of magnitude. (A good step may raise the correction a little: the clamping.)
+bool ClusterSolver::apply_normal_solution(Scratch& w, int threads) {
+  const int m = int(w.order.size());
+  const double before = cluster_residual(w, threads);
+  auto set_normal_impulse = [&](int c, double pn) {
+    Row& r = rows_[c];
+    apply_normal_impulse(r, pn - r.pn);
+    r.pn = pn;
+    row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
+  };
+  for (int u = 0; u < m; ++u) {
+    const double pn = rows_[w.order[u]].pn, solved = positive_part(pn + w.rhs[u]);
+    w.rhs[u] = pn;  // kept for an undo
+    set_normal_impulse(w.order[u], solved);
+  }
+  const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
+  if (!accepted)
+    for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
+  return accepted;
+}
+
+// The same with friction: ΔP_n and ΔP_t (w.rhs[2u], w.rhs[2u + 1]) projected on the cone,
+// P_n ≥ 0 then |P_t| ≤ μP_n, and undone on the same test.
+bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
+  const int m = int(w.order.size());
+  const double mu = mu_;
+  const double before = cluster_residual(w, threads);
+  auto set_impulse = [&](int c, double pn, double pt) {
+    Row& r = rows_[c];
+    Tangent& g = tangents_[c];
+    apply_impulse(r, pn - r.pn, pt - g.pt);
+    r.pn = pn;
+    g.pt = pt;
+    row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
+  };
+  for (int u = 0; u < m; ++u) {
+    const int c = w.order[u];
+    const double pn = rows_[c].pn, pt = tangents_[c].pt;
+    const double solved_pn = positive_part(pn + w.rhs[2 * u]);
+    const double solved_pt = std::clamp(pt + w.rhs[2 * u + 1], -mu * solved_pn, mu * solved_pn);
+    w.rhs[2 * u] = pn;  // kept for an undo
+    w.rhs[2 * u + 1] = pt;
+    set_impulse(c, solved_pn, solved_pt);
+  }
+  const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
+  if (!accepted)
+    for (int u = m - 1; u >= 0; --u) set_impulse(w.order[u], w.rhs[2 * u], w.rhs[2 * u + 1]);
   return accepted;
 }
 
@@ -239,12 +280,28 @@ void ClusterSolver::apply_normal_impulse(const Row& r, double dpn) {
   }
 }
 
-// Largest velocity correction a local solve would make on the cluster's rows (μ = 0).
+// Adds the impulse (dpn, dpt) of row r to its bodies' velocities and spins (see
+// apply_normal_impulse()).
+void ClusterSolver::apply_impulse(const Row& r, double dpn, double dpt) {
+  const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
+  for (const auto& [body, sign] : {std::pair(r.i, 1.0), std::pair(r.j, -1.0)}) {
+    Body& b = bodies_[body];
+    if (b.inv_mass == 0) continue;
+    b.vx += sign * b.inv_mass * px;
+    b.vy += sign * b.inv_mass * py;
+    b.spin -= 2 * b.inv_mass * dpt;
+  }
+}
+
+// Largest velocity correction a local solve would make on the cluster's rows.
 double ClusterSolver::cluster_residual(const Scratch& w, int threads) const {
   const std::ptrdiff_t m = std::ptrdiff_t(w.order.size());
   auto row = [&](std::ptrdiff_t u) {
-    const Row& r = rows_[w.order[u]];
-    return normal_correction(r, bodies_[r.i], bodies_[r.j]);
+    const int c = w.order[u];
+    const Row& r = rows_[c];
+    const Body &a = bodies_[r.i], &b = bodies_[r.j];
+    return tangents_ ? correction(r, tangents_[c], local_solve(r, tangents_[c], a, b, mu_))
+                     : normal_correction(r, a, b);
   };
   double worst = 0;
   // Most clusters are small and solved by one thread: there, even a parallel region that
@@ -324,6 +381,80 @@ void ClusterSolver::assemble_cluster(Scratch& w, int threads) const {
       w.value[q++] = value;
     });
   });
+}
+
+// The frictional cluster's matrix A (see the header), unknowns 2u (ΔP_n) and 2u + 1 (ΔP_t)
+// of row w.order[u], by columns: for the entries of column k with row ≤ k, value holds A(row, k)
+// and lower A(k, row). Entry A(x_o, y_u) is the change of row o's velocity along x ∈ {n̂, t̂}
+// per unit impulse of row u along y, summed over their shared mobile bodies (mass m, s = ±1 as
+// in assemble_cluster()): s_o·s_u·(x_o·y_u)/m, plus 2/m for x = y = t̂ (the spins: ΔS = −2·P_t/m
+// on both grains of a contact, and u_t holds −S_i − S_j). A sliding row o's tangential equation
+// is instead ΔP_t − sμΔP_n = sμP_n − P_t (zero after a sweep's clamp): its own block only.
+// The right-hand side: b − u at the current velocities for the velocity equations.
+void ClusterSolver::assemble_frictional_cluster(Scratch& w) const {
+  const int m = int(w.order.size());
+  const double mu = mu_;
+  w.start.assign(2 * m + 1, 0);
+  w.rhs.resize(2 * m);
+  w.facet.resize(m);
+  w.row.clear();
+  w.value.clear();
+  w.lower.clear();
+  for (int u = 0; u < m; ++u) {
+    const int c = w.order[u];
+    const Row& a = rows_[c];
+    const Tangent& g = tangents_[c];
+    const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
+    const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
+    w.rhs[2 * u] = a.bn - (dvx * a.nx + dvy * a.ny);
+    const int facet = std::fabs(g.pt) >= mu * a.pn ? (g.pt > 0 ? 1 : -1) : 0;
+    w.facet[u] = std::int8_t(facet);
+    w.rhs[2 * u + 1] = facet != 0 ? facet * mu * a.pn - g.pt : g.bt - (dvy * a.nx - dvx * a.ny - (bi.spin + bj.spin));
+  }
+  auto emit = [&](int row, double upper, double lower) {
+    w.row.push_back(row);
+    w.value.push_back(upper);
+    w.lower.push_back(lower);
+  };
+  for (int u = 0; u < m; ++u) {
+    const Row& a = rows_[w.order[u]];
+    const bool slides = w.facet[u] != 0;
+    // Calls f(o, nn, nt, tn, tt) for each row o ≤ u sharing a mobile body with row u, once per
+    // shared body, with xy = s_o·s_u·(x_o·y_u)/m (+ 2/m in tt).
+    auto neighbours = [&](auto&& f) {
+      for (int body : {a.i, a.j}) {
+        const double inv_mass = bodies_[body].inv_mass;
+        if (inv_mass == 0) continue;
+        const double su = body == a.i ? 1.0 : -1.0;
+        for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
+          const int o = unknown_[body_rows_[p]];
+          if (o > u) continue;
+          const Row& b = rows_[body_rows_[p]];
+          const double k = su * (body == b.i ? 1.0 : -1.0) * inv_mass;
+          // t̂ = ẑ × n̂ = (−n_y, n_x)
+          f(o, k * (b.nx * a.nx + b.ny * a.ny), k * (b.nx * -a.ny + b.ny * a.nx), k * (-b.ny * a.nx + b.nx * a.ny),
+            k * (b.ny * a.ny + b.nx * a.nx) + 2 * inv_mass);
+        }
+      }
+    };
+    // Column 2u (row u's ΔP_n): rows 2o, and 2o + 1 for o < u. A sliding row's tangential
+    // equation holds no velocity term.
+    neighbours([&](int o, double nn, double, double tn, double) {
+      emit(2 * o, nn, nn);
+      if (o < u) emit(2 * o + 1, w.facet[o] ? 0.0 : tn, tn);
+    });
+    w.start[2 * u + 1] = int(w.row.size());
+    // Column 2u + 1 (row u's ΔP_t): rows 2o and 2o + 1.
+    neighbours([&](int o, double, double nt, double, double tt) {
+      emit(2 * o, nt, slides ? 0.0 : nt);
+      emit(2 * o + 1, w.facet[o] ? 0.0 : tt, slides ? 0.0 : tt);
+    });
+    if (slides) {
+      emit(2 * u, 0.0, -w.facet[u] * mu);
+      emit(2 * u + 1, 1.0, 1.0);
+    }
+    w.start[2 * u + 2] = int(w.row.size());
+  }
 }
 
 // Reorders the cluster's unknowns from `first` on (the loops left after peeling) by

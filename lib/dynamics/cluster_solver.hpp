@@ -4,8 +4,15 @@
 // still above the tolerance is solved exactly for that set: the cluster's Delassus system,
 // assembled row by row, factorised by a sparse LDLᵀ after peeling its tree-like parts and
 // ordering its loops; Gauss–Seidel then corrects the set if it was wrong. This replaces the
-// slow linear tail of Gauss–Seidel on large, tree-like clusters. Frictionless rows only
-// (one unknown per row, P_n); a frictional row would add a second (P_t) to the numbering.
+// slow linear tail of Gauss–Seidel on large, tree-like clusters.
+//
+// With friction a row has two unknowns, ΔP_n and ΔP_t, numbered together (2u, 2u + 1). The
+// Coulomb cone has two facets in 2D, so for a given state of each contact the local laws are
+// linear: a bearing row meets its normal bound; a sliding row (|P_t| = μP_n in the current
+// iterate) keeps to its facet, P_t = sμP_n; a sticking one meets its tangential target. The
+// matrix is then unsymmetric (the sliding rows) with a symmetric pattern, factorised as LDU
+// in the same order. A wrong state shows as a clamped or undone solve, which Gauss–Seidel
+// corrects before the next pass: an active-set method with Gauss–Seidel between its steps.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -25,28 +32,38 @@ class ClusterSolver {
   // kBearing) that holds a hot row (kHot), updating the impulses, the bodies' velocities and
   // the bearing flags, and flags the tiles of the rows it solved in moved and touched.
   // Returns the number of active rows of the largest cluster.
+  // With mu > 0 the rows' tangential impulses are solved too (see above).
   int solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work, std::uint8_t* row_flags,
-            std::uint8_t* moved, std::uint8_t* touched, int threads);
+            std::uint8_t* moved, std::uint8_t* touched, double mu, int threads);
 
   std::size_t bytes() const;
 
  private:
   // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
   // by columns), right-hand side and factor.
+  // With friction also the lower triangle's values (value holds the upper one) and each row's
+  // facet: 0 sticking, ±1 sliding with P_t = ±μP_n.
   struct Scratch {
     std::vector<int> order, peel, start, row;
-    std::vector<double> value, rhs;
+    std::vector<double> value, rhs, lower;
+    std::vector<std::int8_t> facet;
     SparseLdl ldl;
   };
   bool solve_cluster(int k, Scratch& w, int threads);
   void assemble_cluster(Scratch& w, int threads) const;
+  void assemble_frictional_cluster(Scratch& w) const;
+  bool apply_normal_solution(Scratch& w, int threads);
+  bool apply_frictional_solution(Scratch& w, int threads);
   void order_loops(Scratch& w, int first);
   double cluster_residual(const Scratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
+  void apply_impulse(const Row& r, double dpn, double dpt);
 
   // The rows, bodies and flags of the pass under way (see solve()).
   Row* rows_ = nullptr;
   Body* bodies_ = nullptr;
+  Tangent* tangents_ = nullptr;  // with friction only
+  double mu_ = 0;
   const std::array<int, 2>* row_bodies_ = nullptr;
   std::uint8_t* row_flags_ = nullptr;
 

@@ -116,7 +116,7 @@ void Engine::solve() {
   if (contacts_.rows().empty()) return;
   const double upsilon = settings_.tolerance / dt_, mu = material_.friction;
   const int threads = settings_.threads;
-  const bool clusters = settings_.cluster_solves && mu == 0;
+  const bool clusters = settings_.cluster_solves;
   int next_cluster_solve = 2, cluster_wait = 1;
   // The residual check (see GaussSeidel::check()), counted in contact_updates.
   auto check = [&](bool everywhere) {
@@ -144,7 +144,7 @@ void Engine::solve() {
       // number stays logarithmic in the sweeps of the step. The pass marks the tiles of the
       // rows it solved, to be swept next.
       const int largest = clusters_.solve(contacts_, tiling_, gauss_seidel_.work(), gauss_seidel_.row_flags(),
-                                          gauss_seidel_.moved(), gauss_seidel_.touched(), threads);
+                                          gauss_seidel_.moved(), gauss_seidel_.touched(), mu, threads);
       rep.largest_cluster = std::max(rep.largest_cluster, largest);
       ++rep.cluster_solves;
       next_cluster_solve = it + cluster_wait;

@@ -47,10 +47,11 @@
 //    eight tiles around the last time round) are skipped: a residual check or a cluster
 //    solve that changes something wakes only the tiles concerned, so the late sweeps of a
 //    large system cost what its few unsettled places cost, not what the system costs;
-//  - without friction, once a sweep leaves the set of active contacts nearly unchanged,
-//    the clusters of active contacts still above the tolerance are solved exactly for
-//    that set (sparse LDLᵀ); Gauss–Seidel then corrects the set if it was wrong. This
-//    replaces the slow linear tail of Gauss–Seidel on large, tree-like clusters. Small
+//  - once a sweep leaves the state of the contacts nearly unchanged (active or not, and
+//    with friction sticking or sliding on either facet of the cone), the clusters of
+//    active contacts still above the tolerance are solved exactly for that state (sparse
+//    LDLᵀ without friction, LDU with it); Gauss–Seidel then corrects the state if it was
+//    wrong. This replaces the slow linear tail of Gauss–Seidel on large clusters. Small
 //    clusters go to the threads whole; large ones (the percolating one) are factorised by
 //    all threads together, by subtrees of the elimination tree, with the same result.
 //
@@ -88,7 +89,7 @@ struct SolverSettings {
   // Extra gap (a length) of the reusable pair list; 0 selects 0.3 × the mean diameter.
   // Only the cost depends on it: a larger skin means longer lists, rebuilt less often.
   double skin = 0;
-  // Exact solves of frictionless contact clusters (see above); false: Gauss–Seidel only.
+  // Exact solves of contact clusters (see above); false: Gauss–Seidel only.
   // Both reach the same converged solution.
   bool cluster_solves = true;
   // Residual checks over every row every time, instead of only where something changed

@@ -111,6 +111,13 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
           // Compare before dividing: the division is only needed for a new maximum.
           const double d = std::max(std::fabs(dpn), 3 * std::fabs(dpt));
           if (d > tile_worst * r.inv_w) tile_worst = d / r.inv_w;
+          // The state of the row for the cluster solves: bearing, and sliding on either facet
+          // of the cone (a local solve clamps P_t to ±μP_n exactly).
+          const int bears = bearing(pn), bore = bearing(r.pn);
+          const int slides = bears & (std::fabs(pt) == mu * pn), slid = bore & (std::fabs(g.pt) == mu * r.pn);
+          tile_changes += (bears ^ bore) | (slides ^ slid) | (slides & slid & ((pt > 0) ^ (g.pt > 0)));
+          tile_active += bears;
+          row_flags[c] = std::uint8_t((d >= upsilon * r.inv_w) * kHot | bears * kBearing);
           r.pn = pn;
           g.pt = pt;
           const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;

@@ -30,12 +30,12 @@ class GaussSeidel {
   double check(const ContactRows& contacts, const Tiling& tiling, double mu, double upsilon, bool everywhere,
                bool full_checks, int threads, std::int64_t& updates);
 
-  // Without friction, as of the last sweep: rows that changed status (P_n > 0 or not), and
-  // rows bearing.
+  // As of the last sweep: rows that changed status (P_n > 0 or not; with friction also
+  // sticking, or sliding on one facet of the cone or the other), and rows bearing.
   int status_changes() const { return status_changes_; }
   int active_rows() const { return active_rows_; }
   // For the cluster solves: the working set (rows ascending), the rows' flags (kHot,
-  // kBearing; without friction only) and the tiles' flags, which they update.
+  // kBearing) and the tiles' flags, which they update.
   const std::vector<int>& work() const { return work_; }
   std::uint8_t* row_flags() { return row_flags_.data(); }
   std::uint8_t* moved() { return moved_.data(); }
@@ -52,7 +52,7 @@ class GaussSeidel {
   // The working set (rows grouped by tile, ascending within a tile; tile t holds
   // work_[work_start_[t]] … work_[work_start_[t + 1] − 1]), its membership, and per row
   // whether the last sweep still corrected it by Υ or more and whether it carries a normal
-  // impulse (flags kHot, kBearing; without friction only).
+  // impulse (flags kHot, kBearing).
   std::vector<int> work_, work_start_;
   std::vector<std::uint8_t> in_work_, row_flags_;
   std::vector<std::uint8_t> moved_;    // per tile: corrected by Υ or more when last swept (or since marked)
