@@ -167,7 +167,8 @@ RandomCluster random_cluster(Rng& rng, int n, bool fix_one, const Vec2& centre) 
 }
 
 struct Tally {
-  int clusters = 0, redundant = 0, non_unique = 0, continuum = 0, loops = 0, fixed = 0;
+  int clusters = 0, redundant = 0, non_unique = 0, continuum = 0, loops = 0, fixed = 0, redrawn = 0;
+  std::map<int, int> by_contacts;                           // clusters by candidate pairs
   int off = 0, stick = 0, slide_plus = 0, slide_minus = 0;  // contacts of the engine's solutions
   std::int64_t systems = 0;
   std::map<bool, std::int64_t> sweeps, max_sweeps;  // per cluster_solves setting
@@ -278,8 +279,8 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
   }
 }
 
-// For one μ: e ∈ {0, 0.5}, e_t alternately 0 and 0.3, 24 clusters each of 3–8 disks, one in
-// four with a fixed disk.
+// For one μ: e ∈ {0, 0.5}, e_t alternately 0 and 0.3, 24 clusters each of 3–8 disks (uniform),
+// a quarter of them with a fixed disk.
 void check_friction(double mu, std::uint64_t seed) {
   Tally tally;
   Rng rng(seed);
@@ -287,20 +288,29 @@ void check_friction(double mu, std::uint64_t seed) {
     for (int k = 0; k < 24; ++k) {
       const Material mat{e, k % 2 ? 0.3 : 0.0, mu};
       RandomCluster cluster;
-      for (;;) {  // at most kMaxBruteForceContacts candidate pairs (redraw otherwise)
-        cluster = random_cluster(rng, 3 + k % 6, k % 4 == 3, Vec2(20, 20));
-        if (test::contact_problem(cluster.state, mat, 1e-3, 0.1).contacts() <= test::kMaxBruteForceContacts) break;
+      for (;; ++tally.redrawn) {  // at most kMaxBruteForceContacts candidate pairs
+        const int n = 3 + int(6 * rng.uniform());
+        const bool fix_one = rng.uniform() < 0.25;
+        cluster = random_cluster(rng, n, fix_one, Vec2(20, 20));
+        const int c = test::contact_problem(cluster.state, mat, 1e-3, 0.1).contacts();
+        if (c <= test::kMaxBruteForceContacts) {
+          ++tally.by_contacts[c];
+          break;
+        }
       }
       SCOPED_TRACE(testing::Message() << "e = " << e << ", cluster " << k);
       check_cluster(cluster, mat, tally);
       if (testing::Test::HasFatalFailure()) return;
     }
   std::cout << "FrictionClusters mu = " << mu << ": " << tally.clusters << " clusters (" << tally.loops
-            << " with loops, " << tally.fixed << " with a fixed disk, " << tally.redundant << " redundant, "
-            << tally.non_unique << " with several solutions, " << tally.continuum
+            << " with loops, " << tally.fixed << " with a fixed disk, " << tally.redrawn
+            << " redrawn with too many contacts, " << tally.redundant << " redundant, " << tally.non_unique
+            << " with several solutions, " << tally.continuum
             << " engine off the enumerated vertices); contacts: " << tally.stick << " stick, " << tally.slide_plus
             << " slide +, " << tally.slide_minus << " slide -, " << tally.off << " off; " << tally.systems
-            << " systems enumerated\n"
+            << " systems enumerated\n  clusters by contacts:";
+  for (const auto& [contacts, count] : tally.by_contacts) std::cout << " " << contacts << ": " << count;
+  std::cout << "\n"
             << "  worst relative law violation " << tally.worst_law << ", impulse " << tally.worst_impulse
             << ", velocity " << tally.worst_velocity << "; sweeps per step: Gauss-Seidel only "
             << double(tally.sweeps[false]) / tally.clusters << " (max " << tally.max_sweeps[false]
