@@ -248,12 +248,11 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
 
     // (ii) The engine's impulses are one of the enumerated solutions (the only one if unique).
     double nearest = INFINITY;
-    std::size_t which = 0;
     for (std::size_t k = 0; k < ref.solutions.size(); ++k) {
       const Eigen::VectorXd& R = ref.solutions[k].impulse;
       const double size = std::max(R.cwiseAbs().maxCoeff(), P.cwiseAbs().maxCoeff());
       const double d = size > 0 ? (R - P).cwiseAbs().maxCoeff() / size : 0.0;  // 0: no contact takes an impulse
-      if (d < nearest) nearest = d, which = k;
+      nearest = std::min(nearest, d);
     }
     if (nearest > kMatchBound && ref.redundant) {
       // A continuum of solutions (W singular): the enumeration holds its vertices only, and
@@ -263,7 +262,6 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
       EXPECT_LE(nearest, kMatchBound) << ref.solutions.size() << " enumerated solution(s)";
       tally.worst_impulse = std::max(tally.worst_impulse, nearest);
     }
-    (void)which;
 
     // (iii) Contact states of the engine's solution.
     if (!clusters) {
