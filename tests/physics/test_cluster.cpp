@@ -1,15 +1,16 @@
 // Simultaneous multi-contact impacts: the engine's impulses against a brute-force
-// solution of the same one-step contact problem (enumeration of contact states, each
-// a small linear system solved with Eigen). The Jacobian is built here from contact-
-// point velocities, independently of the engine's formulas.
+// solution of the same one-step contact problem (contact_brute_force.hpp: enumeration of
+// contact states, each a small linear system solved with Eigen, the Jacobian built from
+// contact-point velocities independently of the engine's formulas).
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <utility>
 #include <vector>
 
+#include "contact_brute_force.hpp"
 #include "core/random.hpp"
 #include "dynamics/engine.hpp"
 #include "helpers.hpp"
@@ -17,109 +18,8 @@
 namespace granflow {
 namespace {
 
-struct Reference {
-  std::vector<std::pair<int, int>> pairs;
-  Eigen::VectorXd impulse;   // (P_n, P_t) per pair, in the frame n̂ = (r_i − r_j)/|…|, t̂ = ẑ × n̂
-  Eigen::VectorXd velocity;  // (v_x, v_y, ω) per grain after the step
-  int solutions = 0;         // distinct admissible contact-state assignments found
-};
-
-Reference brute_force(const GrainState& s, const Material& mat, double dt, double alert) {
-  const int n = int(s.size());
-  Reference ref;
-  std::vector<Vec2> normal;
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
-      const Vec2 d = s.position[i] - s.position[j];
-      if (d.norm() - s.radius[i] - s.radius[j] < alert) {
-        ref.pairs.emplace_back(i, j);
-        normal.push_back(d.normalized());
-      }
-    }
-  const int c = int(ref.pairs.size());
-  // Relative velocity of the two surface points facing each other, r_i − R_i n̂ and r_j + R_j n̂.
-  auto contact_velocity = [&](const Eigen::VectorXd& q, int k) {
-    const auto [i, j] = ref.pairs[k];
-    auto at = [&](int g, const Vec2& arm) {
-      const Eigen::Vector3d v(q(3 * g), q(3 * g + 1), 0), w(0, 0, q(3 * g + 2));
-      const Eigen::Vector3d u = v + w.cross(Eigen::Vector3d(arm.x(), arm.y(), 0));
-      return Vec2(u.x(), u.y());
-    };
-    const Vec2 u = at(i, -s.radius[i] * normal[k]) - at(j, s.radius[j] * normal[k]);
-    const Vec2 t(-normal[k].y(), normal[k].x());
-    return Eigen::Vector2d(u.dot(normal[k]), u.dot(t));
-  };
-  Eigen::MatrixXd H(2 * c, 3 * n);
-  for (int col = 0; col < 3 * n; ++col)
-    for (int k = 0; k < c; ++k) H.block<2, 1>(2 * k, col) = contact_velocity(Eigen::VectorXd::Unit(3 * n, col), k);
-  Eigen::VectorXd q0(3 * n), minv(3 * n);
-  for (int g = 0; g < n; ++g) {
-    q0.segment<3>(3 * g) << s.velocity[g].x(), s.velocity[g].y(), s.angular_velocity[g];
-    minv.segment<3>(3 * g) << 1 / s.mass[g], 1 / s.mass[g], 2 / (s.mass[g] * s.radius[g] * s.radius[g]);
-  }
-  const Eigen::MatrixXd W = H * minv.asDiagonal() * H.transpose();
-  const Eigen::VectorXd u0 = H * q0;
-  // Targets by the engine's documented law.
-  Eigen::VectorXd bn(c), bt(c);
-  for (int k = 0; k < c; ++k) {
-    const auto [i, j] = ref.pairs[k];
-    const double gap = (s.position[i] - s.position[j]).norm() - s.radius[i] - s.radius[j];
-    const double un = u0(2 * k);
-    bn(k) = (gap <= 0 || gap + dt * un <= 0) ? (un < 0 ? -mat.restitution * un : 0.0) : -gap / dt;
-    bt(k) = mat.tangential_restitution * u0(2 * k + 1);
-  }
-  // Contact states: 0 off, 1 stick, 2 slide with P_t = +μP_n, 3 slide with P_t = −μP_n.
-  const int kinds = mat.friction > 0 ? 4 : 2;
-  const double tol = 1e-10 * (1 + u0.cwiseAbs().maxCoeff());
-  std::vector<Eigen::VectorXd> found;
-  int combos = 1;
-  for (int k = 0; k < c; ++k) combos *= kinds;
-  for (int code = 0; code < combos; ++code) {
-    std::vector<int> state(c);
-    for (int k = 0, rest = code; k < c; ++k, rest /= kinds) state[k] = rest % kinds;
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * c, 2 * c);
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * c);
-    for (int k = 0; k < c; ++k) {
-      const int rn = 2 * k, rt = 2 * k + 1;
-      if (state[k] == 0) {
-        A(rn, rn) = 1;
-        A(rt, rt) = 1;
-        continue;
-      }
-      A.row(rn) = W.row(rn);
-      b(rn) = bn(k) - u0(rn);
-      if (state[k] == 1 && mat.friction > 0) {
-        A.row(rt) = W.row(rt);
-        b(rt) = bt(k) - u0(rt);
-      } else {  // sliding, or frictionless: P_t = ±μ P_n (= 0 when μ = 0)
-        A(rt, rt) = 1;
-        A(rt, rn) = state[k] == 3 ? mat.friction : -mat.friction;
-      }
-    }
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
-    if (!lu.isInvertible()) continue;
-    const Eigen::VectorXd P = lu.solve(b);
-    const Eigen::VectorXd u = u0 + W * P;
-    bool ok = true;
-    for (int k = 0; k < c && ok; ++k) {
-      const double pn = P(2 * k), pt = P(2 * k + 1);
-      if (state[k] == 0) ok = u(2 * k) >= bn(k) - tol;
-      else ok = pn >= -tol && std::fabs(pt) <= mat.friction * pn + tol;
-      if (ok && state[k] == 2) ok = u(2 * k + 1) <= bt(k) + tol;
-      if (ok && state[k] == 3) ok = u(2 * k + 1) >= bt(k) - tol;
-    }
-    if (!ok) continue;
-    bool seen = false;
-    for (const auto& f : found) seen = seen || (f - P).cwiseAbs().maxCoeff() < 1e-9 * (1 + P.norm());
-    if (!seen) found.push_back(P);
-  }
-  ref.solutions = int(found.size());
-  if (!found.empty()) {
-    ref.impulse = found[0];
-    ref.velocity = q0 + minv.asDiagonal() * H.transpose() * found[0];
-  }
-  return ref;
-}
+using test::brute_force;
+using test::Reference;
 
 void compare(const GrainState& s, const Material& mat, double dt) {
   Box box;
@@ -129,7 +29,9 @@ void compare(const GrainState& s, const Material& mat, double dt) {
   settings.alert_distance = 0.1;
   Engine engine(s, box, 0.0, mat, settings, dt);
   const Reference ref = brute_force(engine.state(), mat, dt, 0.1);
-  ASSERT_EQ(ref.solutions, 1) << "the reference problem should have a unique solution";
+  ASSERT_EQ(ref.solutions.size(), 1u) << "the reference problem should have a unique solution";
+  const Eigen::VectorXd& impulse = ref.solutions[0].impulse;
+  const Eigen::VectorXd& velocity = ref.solutions[0].velocity;
   engine.step();
   EXPECT_TRUE(engine.last_report().converged);
   EXPECT_EQ(engine.last_report().candidates, int(ref.pairs.size()));
@@ -138,25 +40,24 @@ void compare(const GrainState& s, const Material& mat, double dt) {
   const ContactRecords& rec = engine.contacts();
   for (std::size_t k = 0; k < rec.size(); ++k)
     got[{rec.pair[k][0], rec.pair[k][1]}] = {rec.normal_force[k] * dt, rec.tangential_force[k] * dt};
-  const double scale = ref.impulse.cwiseAbs().maxCoeff();
+  const double scale = impulse.cwiseAbs().maxCoeff();
   ASSERT_GT(scale, 0.0);
   int active = 0;
   for (std::size_t k = 0; k < ref.pairs.size(); ++k) {
     const auto it = got.find(ref.pairs[k]);
     const double pn = it == got.end() ? 0.0 : it->second.first;
     const double pt = it == got.end() ? 0.0 : it->second.second;
-    active += ref.impulse(2 * k) > 1e-9 * scale;
-    EXPECT_NEAR(pn, ref.impulse(2 * k), 1e-9 * scale) << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
-    EXPECT_NEAR(pt, ref.impulse(2 * k + 1), 1e-9 * scale)
-        << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
+    active += impulse(2 * k) > 1e-9 * scale;
+    EXPECT_NEAR(pn, impulse(2 * k), 1e-9 * scale) << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
+    EXPECT_NEAR(pt, impulse(2 * k + 1), 1e-9 * scale) << "pair " << ref.pairs[k].first << "-" << ref.pairs[k].second;
   }
   EXPECT_GE(active, 2) << "not a multi-contact event";
   const GrainState& a = engine.state();
   for (std::size_t g = 0; g < a.size(); ++g) {
-    const double vs = 1 + ref.velocity.cwiseAbs().maxCoeff();
-    EXPECT_NEAR(a.velocity[g].x(), ref.velocity(3 * g), 1e-9 * vs);
-    EXPECT_NEAR(a.velocity[g].y(), ref.velocity(3 * g + 1), 1e-9 * vs);
-    EXPECT_NEAR(a.angular_velocity[g], ref.velocity(3 * g + 2), 1e-9 * vs / a.radius[g]);
+    const double vs = 1 + velocity.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(a.velocity[g].x(), velocity(3 * g), 1e-9 * vs);
+    EXPECT_NEAR(a.velocity[g].y(), velocity(3 * g + 1), 1e-9 * vs);
+    EXPECT_NEAR(a.angular_velocity[g], velocity(3 * g + 2), 1e-9 * vs / a.radius[g]);
   }
 }
 
