@@ -46,9 +46,9 @@ using namespace granflow;
 constexpr double kFriction = 0.4, kRestitution = 0.0, kRate = 1.0, kStrainStep = 1e-3;
 constexpr int kSpeedupReps = 3;
 
-// Warm-up: 0.5 strain units at N = 10³ (the work per step has settled by then at these ν),
-// 0.3 at N = 10⁴, where today's solver takes 0.2 s per step at ν = 0.78 and about
-// 1.3 s at 0.80.
+// Warm-up: 0.5 strain units at N = 10³; 0.3 at N = 10⁴, where today's solver takes 0.2 s
+// per step at ν = 0.78 and about 1.3 s at 0.80, so that the start-up transient is not over
+// there (performance.md says so beside the figures).
 std::int64_t warm_steps(std::int64_t grains, double) { return grains <= 1000 ? 500 : 300; }
 
 // Timed steps: 200 at N = 10³ (0.2 strain); at N = 10⁴, 50 below ν = 0.78 and 20 above,
