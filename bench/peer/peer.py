@@ -4,12 +4,17 @@
 Subcommands (Debian's /usr/bin/python3 with numpy and h5py):
 
   deck PACK.h5 DIR [--rate G] [--mach M] [--restitution E] [--strain S] [--dt-fraction F]
+                   [--friction MU]
       Write DIR/pack.data (LAMMPS data file, atom_style sphere) and DIR/in.shear
       (LAMMPS input) for the packing PACK.h5; prints the derived k_n, dt, steps as JSON.
   stats FILE [--skip S] [--block B]
       Steady averages over strain >= S of p/γ̇², s/p, T/γ̇² (and s/γ̇²) from a gf-shear
       trajectory (.h5) or a LAMMPS series written by the deck (.txt), with standard
       errors from block averages over blocks of B strain units. Prints JSON.
+  friction-report DIR [--nus 0.78] [--strain 10] [--skip S] [--block B]
+      Markdown tables of what `run.sh friction` left in DIR: CPU and wall time per strain
+      unit of each run (and extrapolated to --strain units), and the steady p/γ̇², s/p, T/γ̇²
+      of both programs (strain >= S, blocks of B; runs too short for two blocks are named).
   report OUTDIR [--nus "0.6 0.8"] [--extra-conv DIR ...]
       Markdown tables of what run.sh left in OUTDIR: timings.tsv, the LAMMPS series at each
       Mach number (with the M → 0 extrapolation) beside gf-shear's default run, and the
@@ -18,7 +23,13 @@ Subcommands (Debian's /usr/bin/python3 with numpy and h5py):
 Model of the LAMMPS side (all choices are stated in README.md):
   * masses m_i = π R_i² (areal density 1, as gf-pack): LAMMPS 29Sep2021 uses
     m = 4/3 π r³ ρ for spheres even in 2d, so each atom gets ρ_i = 3/(4 R_i);
-  * pair_style granular, hooke normal force F = k_n δ − η v_n, no tangential force (μ = 0);
+  * pair_style granular, hooke normal force F = k_n δ − η v_n; without --friction no
+    tangential force (μ = 0);
+  * --friction MU > 0: 'tangential linear_history k_t x_γt MU' with k_t = 2/7 k_n and
+    x_γt = 1/2 (tangential damping η_t = η/2): LAMMPS' documented defaults of
+    pair_style gran/hooke/history (Kt = NULL, gamma_t = NULL), the spring–dashpot
+    friction of Silbert et al. 2001; no rolling or twisting resistance; rotations
+    integrated as disks (fix nve/sphere disc: I = m R²/2, as gf-shear's grains);
   * k_n from the Mach number M = σγ̇/c with c = √(k_n/m_σ), σ the mean diameter of the
     packing and m_σ = π(σ/2)² the mass of a grain of diameter σ:  k_n = m_σ (σγ̇/M)²;
   * η = 2ζ √(m_eff k_n) for every pair, ζ = −ln e / √(π² + ln² e), which gives exactly the
@@ -30,7 +41,7 @@ Model of the LAMMPS side (all choices are stated in README.md):
     (m_eff = m_σ/2);
   * start: velocities v_x = γ̇ (y − y_lo), v_y = 0 (the affine profile; gf-shear's
     γ̇(y − Ly/2) is the same flow seen from a frame moving at γ̇Ly/2, and neither p, s nor T
-    depends on that frame); ω = 0 (irrelevant at μ = 0: no torques);
+    depends on that frame); ω = 0 (gf-shear starts at ω = 0 too);
   * fix deform xy erate γ̇ remap v (Lees–Edwards through LAMMPS' deforming triclinic box).
 """
 import argparse
@@ -101,6 +112,8 @@ def cmd_deck(a):
     rate = a.rate
     c = sigma * abs(rate) / a.mach
     kn = m_sigma * c * c
+    if a.friction < 0:
+        raise SystemExit("--friction must be >= 0")
     zeta = zeta_of_restitution(a.restitution)
     eprime = tsuji_argument(2 * zeta)
     omega0 = math.sqrt(kn / (m_sigma / 2))
@@ -113,6 +126,16 @@ def cmd_deck(a):
     thermo = max(block, (steps // 20) // block * block)
     # skin: 0.2 σ; displacement checks every step
     skin = 0.2 * sigma
+
+    if a.friction > 0:
+        # LAMMPS' defaults of gran/hooke/history: Kt = 2/7 Kn, gamma_t = gamma_n / 2
+        kt, xgammat = 2.0 / 7.0 * kn, 0.5
+        tangential = f"tangential linear_history {kt!r} {xgammat!r} {a.friction!r}"
+        integrate = "nve/sphere disc"
+    else:
+        kt, xgammat = 0.0, 0.0
+        tangential = "tangential linear_nohistory 0.0 0.0"
+        integrate = "nve/sphere"
 
     os.makedirs(a.dir, exist_ok=True)
     # positions into [0, L); the LAMMPS box is [0, Lx) × [0, Ly) with tilt δ
@@ -130,9 +153,10 @@ def cmd_deck(a):
         for i in range(n):
             f.write(f"{i + 1} {rate * x[i, 1]!r} 0 0 0 0 0\n")
     deck = f"""# LAMMPS input written by bench/peer/peer.py deck from {a.packing}
-# stiff soft-sphere twin of: gf-shear --rate {rate} --restitution {a.restitution} --friction 0 --strain {a.strain}
+# stiff soft-sphere twin of: gf-shear --rate {rate} --restitution {a.restitution} --friction {a.friction} --strain {a.strain}
 # Mach M = sigma*rate/c = {a.mach}, c = sqrt(k_n/m_sigma), sigma = {sigma!r}, m_sigma = {m_sigma!r}
 # k_n = {kn!r}; zeta = {zeta!r}; contact time t_c = {tc!r}; dt = t_c * {a.dt_fraction}
+# friction mu = {a.friction}: k_t = {kt!r} (2/7 k_n), eta_t = {xgammat} eta_n (0: no tangential force)
 dimension 2
 units lj
 atom_style sphere
@@ -140,26 +164,30 @@ boundary p p p
 comm_modify vel yes
 read_data pack.data
 pair_style granular
-pair_coeff * * hooke {kn!r} {eprime!r} tangential linear_nohistory 0.0 0.0 damping tsuji
+pair_coeff * * hooke {kn!r} {eprime!r} {tangential} damping tsuji
 neighbor {skin!r} bin
 neigh_modify delay 0 every 1 check yes
 timestep {dt!r}
-fix integrate all nve/sphere
+fix integrate all {integrate}
 fix shear all deform 1 xy erate {rate!r} remap v
 fix plane all enforce2d
 # observables, gf-shear's definitions: p = (Pxx+Pyy)/2, s = -Pxy (kinetic part about the
-# streaming profile), T = <|v - vstream - <v - vstream>|^2> (plain mean over grains; the
-# rotational part of gf-shear's T vanishes at mu = 0 since omega is uniform and constant)
+# streaming profile), T = <|v - vstream - <v - vstream>|^2> + 1/2 <R^2 (omega - <omega>)^2>
+# (plain means over grains; the rotational part vanishes at mu = 0, where omega stays 0)
 compute tdef all temp/deform
 compute press all pressure tdef
+compute rot all property/atom radius omegaz
 variable vfx atom vx-{rate!r}*(y-ylo)
 variable vfx2 atom v_vfx*v_vfx
 variable vy2 atom vy*vy
-compute vm all reduce ave v_vfx v_vfx2 vy v_vy2
+variable r2w atom c_rot[1]*c_rot[1]*c_rot[2]
+variable r2w2 atom c_rot[1]*c_rot[1]*c_rot[2]*c_rot[2]
+variable r2 atom c_rot[1]*c_rot[1]
+compute vm all reduce ave v_vfx v_vfx2 vy v_vy2 c_rot[2] v_r2w v_r2w2 v_r2
 variable strain equal time*{rate!r}
 variable p equal 0.5*(c_press[1]+c_press[2])
 variable s equal -c_press[4]
-variable T equal c_vm[2]-c_vm[1]^2+c_vm[4]-c_vm[3]^2
+variable T equal c_vm[2]-c_vm[1]^2+c_vm[4]-c_vm[3]^2+0.5*(c_vm[7]-2*c_vm[5]*c_vm[6]+c_vm[5]^2*c_vm[8])
 fix series all ave/time {every} {block // every} {block} v_strain v_p v_s v_T file series.txt
 thermo_style custom step v_strain v_p v_s v_T cpu
 thermo {thermo}
@@ -179,6 +207,9 @@ run {steps}
         c=c,
         k_n=kn,
         restitution=a.restitution,
+        friction=a.friction,
+        k_t=kt,
+        x_gamma_t=xgammat,
         zeta=zeta,
         tsuji_argument=eprime,
         contact_time=tc,
@@ -462,6 +493,50 @@ def cmd_report(a):
         _fit_table(files + extra, nus, bool(extra))
 
 
+def cmd_friction_report(a):
+    out = a.dir
+    print(f"# Frictional peer comparison, {os.uname().nodename}, {os.cpu_count()} cores\n")
+    path = os.path.join(out, "timings.tsv")
+    if os.path.exists(path):
+        print(f"## Cost per strain unit, one core (CPU = user + sys; extrapolated to {a.strain:g} strain units)\n")
+        print(f"| program | build | ν | strain run | wall s | CPU s | CPU s per strain | CPU s for {a.strain:g} strain | load at start | date |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for line in open(path):
+            if not line.strip():
+                continue
+            tool, nu, strain, wall, cpu, load, date, build = line.rstrip("\n").split("\t")
+            per = float(cpu) / float(strain)
+            print(
+                f"| {tool} | {build} | {nu} | {float(strain):g} | {float(wall):.1f} | {float(cpu):.1f} | "
+                f"{per:.3g} | {per * a.strain:.4g} | {load} | {date[:16]} |"
+            )
+        print()
+    print(f"## Steady state (strain ≥ {a.skip:g}, block averages over {a.block:g} strain), γ̇ = 1, ρ = 1\n")
+    print("| ν | model | strain | p/γ̇² | s/γ̇² | s/p | T/γ̇² |")
+    print("|---|---|---|---|---|---|---|")
+    for nu in a.nus.split():
+        runs = []
+        lmp = os.path.join(out, f"lmp_nu{nu}", "series.txt")
+        if os.path.exists(lmp):
+            info = json.load(open(os.path.join(out, f"lmp_nu{nu}", "deck.json")))
+            runs.append((f"LAMMPS hooke + linear_history, μ = {info.get('friction', 0):g}, e = {info['restitution']:g}, M = {info['mach']:g}", lmp))
+        gf = os.path.join(out, f"gf_nu{nu}.h5")
+        if os.path.exists(gf):
+            runs.append(("gf-shear defaults", gf))
+        for name, f in runs:
+            strain = read_series(f)[0]
+            end = float(strain.max())
+            if end < a.skip + 2 * a.block:
+                print(f"| {nu} | {name} | {end:.3g} | too short for 2 blocks after strain {a.skip:g} | | | |")
+                continue
+            r = steady(f, a.skip, a.block)
+            print(
+                f"| {nu} | {name} | {end:.3g} | {_fmt(r['p'], r['p_err'])} | {_fmt(r['s'], r['s_err'])} | "
+                f"{_fmt(r['mu'], r['mu_err'])} | {_fmt(r['T'], r['T_err'])} |"
+            )
+    print()
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -473,6 +548,7 @@ def main():
     d.add_argument("--restitution", type=float, default=0.5)
     d.add_argument("--strain", type=float, default=10.0)
     d.add_argument("--dt-fraction", type=float, default=1 / 50)
+    d.add_argument("--friction", type=float, default=0.0, help="μ (0: no tangential force)")
     s = sub.add_parser("stats")
     s.add_argument("file")
     s.add_argument("--skip", type=float, default=1.0)
@@ -481,8 +557,14 @@ def main():
     r.add_argument("dir")
     r.add_argument("--nus", default="0.6 0.8")
     r.add_argument("--extra-conv", action="append", help="further grid directory (another build) for the fit")
+    f = sub.add_parser("friction-report")
+    f.add_argument("dir")
+    f.add_argument("--nus", default="0.78")
+    f.add_argument("--strain", type=float, default=10.0, help="strain units to extrapolate the cost to")
+    f.add_argument("--skip", type=float, default=1.0)
+    f.add_argument("--block", type=float, default=1.0)
     a = ap.parse_args()
-    {"deck": cmd_deck, "stats": cmd_stats, "report": cmd_report}[a.cmd](a)
+    {"deck": cmd_deck, "stats": cmd_stats, "report": cmd_report, "friction-report": cmd_friction_report}[a.cmd](a)
 
 
 if __name__ == "__main__":

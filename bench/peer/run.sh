@@ -5,6 +5,8 @@
 #   bash bench/peer/run.sh convergence    # + the --strain-step × --tolerance study (slow at ν = 0.8)
 #   bash bench/peer/run.sh mach           # LAMMPS at MACH_SERIES too, for the M → 0 extrapolation
 #   bash bench/peer/run.sh table          # only print the tables from what is already in $OUT
+#   bash bench/peer/run.sh friction       # μ = 0.4, ν = 0.78: LAMMPS with tangential history and gf-shear, timed
+#   bash bench/peer/run.sh friction-table # only print the friction tables from $OUT/friction
 #
 # Environment (defaults in brackets):
 #   OUT [build-peer/peer]   scratch directory for every generated file (never committed)
@@ -17,6 +19,11 @@
 #   CONV_STEPS ["4e-3 2e-3 1e-3 5e-4"]  CONV_TOLS ["1e-6 1e-8 1e-10"]  CONV_STRAIN [10]
 #                           convergence grid (existing runs are reused; CONV_RERUN=1 redoes them)
 #   CONV_EXTRA [""]         further grid directories (e.g. another build's OUT/conv) pooled into the fit
+# Friction mode (files in $OUT/friction; every call adds a timing of each program):
+#   FRICTION [0.4]  FRICTION_NUS [0.78]  GF_RESTITUTION [0]  LAMMPS_RESTITUTION [0.1]
+#                           (a linear dashpot cannot give e = 0; tsuji damping reaches e ≥ 0.075)
+#   GF_STRAIN [$STRAIN]  LAMMPS_STRAIN [$STRAIN]   strain of each run; the tables give the cost per
+#                           strain unit and its extrapolation to $STRAIN
 # Timings are one process on one core (OMP_NUM_THREADS=1); the machine's load at the time is
 # recorded with each timing, since other work on the machine inflates wall times.
 set -euo pipefail
@@ -38,6 +45,13 @@ CONV_STEPS="${CONV_STEPS:-4e-3 2e-3 1e-3 5e-4}"
 CONV_TOLS="${CONV_TOLS:-1e-6 1e-8 1e-10}"
 CONV_STRAIN="${CONV_STRAIN:-10}"
 MACH_SERIES="${MACH_SERIES:-2e-3 5e-4}"
+FRICTION="${FRICTION:-0.4}"
+FRICTION_NUS="${FRICTION_NUS:-0.78}"
+GF_RESTITUTION="${GF_RESTITUTION:-0}"
+LAMMPS_RESTITUTION="${LAMMPS_RESTITUTION:-0.1}"
+GF_STRAIN="${GF_STRAIN:-$STRAIN}"
+LAMMPS_STRAIN="${LAMMPS_STRAIN:-$STRAIN}"
+FOUT="$OUT/friction"
 PY=/usr/bin/python3
 PEER="$PY $HERE/peer.py"
 export OMP_NUM_THREADS=1
@@ -127,6 +141,37 @@ mach_series() {  # LAMMPS at further Mach numbers (physics only: the M → 0 ext
   done
 }
 
+# friction/timings.tsv: tool nu strain wall_s cpu_s load date binary-hash
+friction_row() { printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$@" >>"$FOUT/timings.tsv"; }
+
+friction() {
+  local nu pack dir out l0 wall user sys
+  mkdir -p "$FOUT"
+  for nu in $FRICTION_NUS; do
+    pack=$(packing "$nu")
+    dir="$FOUT/lmp_nu$nu"
+    $PEER deck "$pack" "$dir" --rate 1 --mach "$MACH" --restitution "$LAMMPS_RESTITUTION" --strain "$LAMMPS_STRAIN" \
+      --dt-fraction "$DT_FRACTION" --friction "$FRICTION" >/dev/null
+    log "LAMMPS ν=$nu μ=$FRICTION e=$LAMMPS_RESTITUTION strain $LAMMPS_STRAIN"
+    l0=$(load)
+    (cd "$dir" && /usr/bin/time -f "%e %U %S" -o time.txt lmp -in in.shear -log log.lammps -nocite -screen none)
+    read -r wall user sys <"$dir/time.txt"
+    friction_row lammps "$nu" "$LAMMPS_STRAIN" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" \
+      "$(date -Is)" "lammps-$(lmp -h | sed -n 's/.*Simulator - \(.*\)$/\1/p' | tr ' ' '_')"
+    out="$FOUT/gf_nu$nu.h5"
+    log "gf-shear ν=$nu μ=$FRICTION e=$GF_RESTITUTION strain $GF_STRAIN"
+    l0=$(load)
+    rm -f "$out"
+    /usr/bin/time -f "%e %U %S" -o "$FOUT/gf_time.txt" \
+      "$GF_SHEAR" -i "$pack" -o "$out" --strain "$GF_STRAIN" --restitution "$GF_RESTITUTION" --friction "$FRICTION" --quiet
+    read -r wall user sys <"$FOUT/gf_time.txt"
+    friction_row gf-shear "$nu" "$GF_STRAIN" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$l0" \
+      "$(date -Is)" "$GF_HASH $VERSION"
+  done
+}
+
+friction_table() { $PEER friction-report "$FOUT" --nus "$FRICTION_NUS" --strain "$STRAIN"; }
+
 convergence() {
   local nu ds tol pack out
   mkdir -p "$OUT/conv"
@@ -163,5 +208,7 @@ case "$MODE" in
     ;;
   conv-only) build; convergence; table ;;
   mach) build; mach_series; table ;;
-  *) echo "usage: bash bench/peer/run.sh [timing|convergence|conv-only|mach|table]" >&2; exit 2 ;;
+  friction) build; friction; friction_table ;;
+  friction-table) friction_table ;;
+  *) echo "usage: bash bench/peer/run.sh [timing|convergence|conv-only|mach|table|friction|friction-table]" >&2; exit 2 ;;
 esac
