@@ -318,11 +318,61 @@ void check_friction(double mu, std::uint64_t seed) {
   EXPECT_GT(tally.stick, 0);
   EXPECT_GT(tally.slide_plus, 0);
   EXPECT_GT(tally.slide_minus, 0);
+  // The exact cluster solves land on the solution: a fraction of Gauss–Seidel's sweeps (a
+  // wrong matrix entry or facet would leave Gauss–Seidel to do the work).
+  EXPECT_LT(4 * tally.sweeps[true], tally.sweeps[false]);
 }
 
 TEST(FrictionClusters, Mu0_1) { check_friction(0.1, 11); }
 TEST(FrictionClusters, Mu0_4) { check_friction(0.4, 12); }
 TEST(FrictionClusters, Mu1) { check_friction(1.0, 13); }
+
+// A large cluster (80 disks, loops, one fixed) squeezed together at μ = 0.4, e = 0: too many
+// contacts to enumerate, so the laws are checked on the engine's impulses. Gauss–Seidel alone
+// needs hundreds of sweeps; the exact frictional cluster solves land on a solution in a few
+// tens, with every law met to the same bound.
+TEST(FrictionClusters, LargeClusterSolvedInFewSweeps) {
+  Rng rng(17);
+  const RandomCluster cluster = random_cluster(rng, 80, true, Vec2(20, 20));
+  const double dt = 1e-3, alert = 0.1;
+  Box box;
+  box.lx = box.ly = 40;
+  for (const double mu : {0.4, 1.0}) {
+    SCOPED_TRACE(mu);
+    const Material mat{0.0, 0.0, mu};
+    const ContactProblem p = test::contact_problem(cluster.state, mat, dt, alert);
+    std::map<bool, int> sweeps, largest;
+    for (const bool clusters : {false, true}) {
+      SolverSettings settings;
+      settings.tolerance = 1e-14;
+      settings.alert_distance = alert;
+      settings.max_iterations = 1000000;
+      settings.cluster_solves = clusters;
+      Engine engine(cluster.state, box, 0.0, mat, settings, dt);
+      const StepReport& report = engine.step();
+      ASSERT_TRUE(report.converged);
+      sweeps[clusters] = report.iterations;
+      largest[clusters] = report.largest_cluster;
+      std::map<std::pair<int, int>, int> row;
+      for (int k = 0; k < p.contacts(); ++k) row[p.pairs[k]] = k;
+      Eigen::VectorXd P = Eigen::VectorXd::Zero(2 * p.contacts());
+      const ContactRecords& rec = engine.contacts();
+      for (std::size_t r = 0; r < rec.size(); ++r) {
+        const auto it = row.find({rec.pair[r][0], rec.pair[r][1]});
+        ASSERT_NE(it, row.end());
+        P(2 * it->second) = rec.normal_force[r] * dt;
+        P(2 * it->second + 1) = rec.tangential_force[r] * dt;
+      }
+      EXPECT_LE(check_laws(p, P).max(), kLawBound) << (clusters ? "cluster solves" : "Gauss-Seidel only");
+    }
+    std::cout << "FrictionClusters large, mu = " << mu << ": " << p.contacts() << " candidates, sweeps "
+              << sweeps[false] << " (Gauss-Seidel only) and " << sweeps[true] << " (cluster solves, largest "
+              << largest[true] << " rows)\n";
+    EXPECT_GE(largest[true], 40);
+    EXPECT_GT(sweeps[false], 200);
+    EXPECT_LE(sweeps[true], 40);
+  }
+}
 
 }  // namespace
 }  // namespace granflow
