@@ -184,6 +184,31 @@ constexpr double kLawBound = 1e-9;
 // impulse (velocity): the same few Υ, times the conditioning of the small systems.
 constexpr double kMatchBound = 1e-9;
 
+// One step's settings for the comparisons: a tight tolerance, so that they see round-off only.
+SolverSettings tight_settings(bool cluster_solves, double alert) {
+  SolverSettings settings;
+  settings.tolerance = 1e-14;
+  settings.alert_distance = alert;
+  settings.max_iterations = 1000000;
+  settings.cluster_solves = cluster_solves;
+  return settings;
+}
+
+// The engine's impulses (force·dt) in the problem's row order; fails on a contact the problem
+// does not know.
+void engine_impulses(const ContactProblem& p, const Engine& engine, double dt, Eigen::VectorXd& P) {
+  std::map<std::pair<int, int>, int> row;
+  for (int k = 0; k < p.contacts(); ++k) row[p.pairs[k]] = k;
+  P = Eigen::VectorXd::Zero(2 * p.contacts());
+  const ContactRecords& rec = engine.contacts();
+  for (std::size_t r = 0; r < rec.size(); ++r) {
+    const auto it = row.find({rec.pair[r][0], rec.pair[r][1]});
+    ASSERT_NE(it, row.end()) << "a contact the reference does not know";
+    P(2 * it->second) = rec.normal_force[r] * dt;
+    P(2 * it->second + 1) = rec.tangential_force[r] * dt;
+  }
+}
+
 void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tally) {
   const double dt = 1e-3, alert = 0.1;
   Box box;
@@ -200,12 +225,7 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
   ASSERT_FALSE(ref.solutions.empty()) << "the enumeration found no solution";
   for (const bool clusters : {false, true}) {
     SCOPED_TRACE(clusters ? "cluster_solves" : "Gauss-Seidel only");
-    SolverSettings settings;
-    settings.tolerance = 1e-14;  // tight, so that the comparison sees round-off only
-    settings.alert_distance = alert;
-    settings.max_iterations = 1000000;
-    settings.cluster_solves = clusters;
-    Engine engine(cluster.state, box, 0.0, mat, settings, dt);
+    Engine engine(cluster.state, box, 0.0, mat, tight_settings(clusters, alert), dt);
     const StepReport& report = engine.step();
     ASSERT_TRUE(report.converged);
     ASSERT_EQ(engine.alert_distance(), alert);
@@ -213,16 +233,9 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
     tally.sweeps[clusters] += report.iterations;
     tally.max_sweeps[clusters] = std::max<std::int64_t>(tally.max_sweeps[clusters], report.iterations);
 
-    std::map<std::pair<int, int>, int> row;
-    for (int k = 0; k < c; ++k) row[p.pairs[k]] = k;
-    Eigen::VectorXd P = Eigen::VectorXd::Zero(2 * c);
-    const ContactRecords& rec = engine.contacts();
-    for (std::size_t r = 0; r < rec.size(); ++r) {
-      const auto it = row.find({rec.pair[r][0], rec.pair[r][1]});
-      ASSERT_NE(it, row.end()) << "a contact the reference does not know";
-      P(2 * it->second) = rec.normal_force[r] * dt;
-      P(2 * it->second + 1) = rec.tangential_force[r] * dt;
-    }
+    Eigen::VectorXd P;
+    engine_impulses(p, engine, dt, P);
+    if (testing::Test::HasFatalFailure()) return;
 
     // (i) Every law, on the engine's own impulses.
     const LawViolation v = check_laws(p, P);
@@ -343,26 +356,14 @@ TEST(FrictionClusters, LargeClusterSolvedInFewSweeps) {
     const ContactProblem p = test::contact_problem(cluster.state, mat, dt, alert);
     std::map<bool, int> sweeps, largest;
     for (const bool clusters : {false, true}) {
-      SolverSettings settings;
-      settings.tolerance = 1e-14;
-      settings.alert_distance = alert;
-      settings.max_iterations = 1000000;
-      settings.cluster_solves = clusters;
-      Engine engine(cluster.state, box, 0.0, mat, settings, dt);
+      Engine engine(cluster.state, box, 0.0, mat, tight_settings(clusters, alert), dt);
       const StepReport& report = engine.step();
       ASSERT_TRUE(report.converged);
       sweeps[clusters] = report.iterations;
       largest[clusters] = report.largest_cluster;
-      std::map<std::pair<int, int>, int> row;
-      for (int k = 0; k < p.contacts(); ++k) row[p.pairs[k]] = k;
-      Eigen::VectorXd P = Eigen::VectorXd::Zero(2 * p.contacts());
-      const ContactRecords& rec = engine.contacts();
-      for (std::size_t r = 0; r < rec.size(); ++r) {
-        const auto it = row.find({rec.pair[r][0], rec.pair[r][1]});
-        ASSERT_NE(it, row.end());
-        P(2 * it->second) = rec.normal_force[r] * dt;
-        P(2 * it->second + 1) = rec.tangential_force[r] * dt;
-      }
+      Eigen::VectorXd P;
+      engine_impulses(p, engine, dt, P);
+      if (testing::Test::HasFatalFailure()) return;
       EXPECT_LE(check_laws(p, P).max(), kLawBound) << (clusters ? "cluster solves" : "Gauss-Seidel only");
     }
     std::cout << "FrictionClusters large, mu = " << mu << ": " << p.contacts() << " candidates, sweeps "
