@@ -30,6 +30,9 @@ void add_contact_options(CommandLine& cli) {
                   "with exit code 1 and no output",
                   "0.01");
   cli.real_option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
+  cli.flag("no-cluster-solves", 0,
+           "Gauss–Seidel alone, without the exact solves of contact clusters: the same laws and tolerance, many more "
+           "sweeps (a reference for comparisons)");
   cli.integer_option(
       "threads", 0, "N",
       "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
@@ -53,6 +56,7 @@ SolverSettings solver_option(const CommandLine& cli) {
   settings.max_iterations = int(cli.integer("max-iterations"));
   if (settings.max_iterations < 1) throw UsageError("option --max-iterations: must be >= 1");
   settings.alert_distance = cli.real("alert-distance");
+  settings.cluster_solves = !cli.flag_set("no-cluster-solves");
   require_in_range("alert-distance", settings.alert_distance, 0, INFINITY, false, true);
   const long long threads = cli.integer("threads");
   if (threads < 1 || threads > 256) throw UsageError("option --threads: must be in [1, 256]");
