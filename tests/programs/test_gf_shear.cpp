@@ -250,3 +250,28 @@ TEST(GfShearFirstStep, DiluteStartHasNoWarning) {
   ASSERT_TRUE(run.has("first_step_kinetic_energy_ratio"));
   EXPECT_NEAR(run.get_double("first_step_kinetic_energy_ratio"), 1, 1e-9);
 }
+
+// --no-cluster-solves: Gauss–Seidel alone. With friction it takes many more sweeps per step
+// than the default solver to meet the same tolerance; without friction as well. The option
+// is part of the run's signature (a resume may not change it).
+TEST(GfShearSolver, NoClusterSolvesTakesMoreSweeps) {
+  ScratchDir dir("shear_no_cluster_solves");
+  const std::string dense = packed_once("shear_packing_076", "--grains 200 --packing-fraction 0.76 --seed 3");
+  for (const std::string friction : {"0", "0.4"}) {
+    SCOPED_TRACE(friction);
+    double sweeps[2] = {0, 0};
+    for (int plain = 0; plain < 2; ++plain) {
+      const std::string out = dir / ("run_" + friction + "_" + std::to_string(plain) + ".h5");
+      auto r = run_tool("gf-shear", "-i " + dense + " --rate 0.01 --strain-step 1e-3 --restitution 0 --friction " +
+                                        friction + " --steps 200 --quiet" + (plain ? " --no-cluster-solves" : "") +
+                                        " -o " + out);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      const io::Parameters run = io::TrajectoryReader(out).attributes("/run");
+      EXPECT_EQ(run.get_int("unconverged_steps"), 0);
+      sweeps[plain] = run.get_double("mean_iterations");
+    }
+    std::cout << "gf-shear mu = " << friction << ": " << sweeps[0] << " sweeps per step, " << sweeps[1]
+              << " with --no-cluster-solves\n";
+    EXPECT_GT(sweeps[1], 3 * sweeps[0]);
+  }
+}
