@@ -196,7 +196,7 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
   auto factor = [&](std::size_t fill) {
     if (tangents_) {
       assemble_frictional_cluster(w);
-      return w.ldl.factor(2 * m, w.start, w.row, w.value, w.lower, 1e-9, fill * w.row.size() + 64, threads);
+      return w.ldl.factor(w.first[m], w.start, w.row, w.value, w.lower, 1e-9, fill * w.row.size() + 64, threads);
     }
     assemble_cluster(w, threads);
     return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
@@ -240,8 +240,9 @@ bool ClusterSolver::apply_normal_solution(Scratch& w, int threads) {
   return accepted;
 }
 
-// The same with friction: ΔP_n and ΔP_t (w.rhs[2u], w.rhs[2u + 1]) projected on the cone,
-// P_n ≥ 0 then |P_t| ≤ μP_n, and undone on the same test.
+// The same with friction: ΔP_n and, for a sticking row, ΔP_t (see assemble_frictional_cluster())
+// projected on the cone, P_n ≥ 0 then |P_t| ≤ μP_n (a sliding row's P_t on its facet), and
+// undone on the same test.
 bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
   const int m = int(w.order.size());
   const double mu = mu_;
@@ -254,18 +255,21 @@ bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
     g.pt = pt;
     row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
   };
+  w.old.resize(2 * std::size_t(m));  // kept for an undo
   for (int u = 0; u < m; ++u) {
     const int c = w.order[u];
     const double pn = rows_[c].pn, pt = tangents_[c].pt;
-    const double solved_pn = positive_part(pn + w.rhs[2 * u]);
-    const double solved_pt = std::clamp(pt + w.rhs[2 * u + 1], -mu * solved_pn, mu * solved_pn);
-    w.rhs[2 * u] = pn;  // kept for an undo
-    w.rhs[2 * u + 1] = pt;
+    const double solved_pn = positive_part(pn + w.rhs[w.first[u]]);
+    const double limit = mu * solved_pn;
+    const double solved_pt =
+        w.facet[u] != 0 ? w.facet[u] * limit : std::clamp(pt + w.rhs[w.first[u] + 1], -limit, limit);
+    w.old[2 * u] = pn;
+    w.old[2 * u + 1] = pt;
     set_impulse(c, solved_pn, solved_pt);
   }
   const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
   if (!accepted)
-    for (int u = m - 1; u >= 0; --u) set_impulse(w.order[u], w.rhs[2 * u], w.rhs[2 * u + 1]);
+    for (int u = m - 1; u >= 0; --u) set_impulse(w.order[u], w.old[2 * u], w.old[2 * u + 1]);
   return accepted;
 }
 
@@ -383,33 +387,42 @@ void ClusterSolver::assemble_cluster(Scratch& w, int threads) const {
   });
 }
 
-// The frictional cluster's matrix A (see the header), unknowns 2u (ΔP_n) and 2u + 1 (ΔP_t)
-// of row w.order[u], by columns: for the entries of column k with row ≤ k, value holds A(row, k)
-// and lower A(k, row). Entry A(x_o, y_u) is the change of row o's velocity along x ∈ {n̂, t̂}
-// per unit impulse of row u along y, summed over their shared mobile bodies (mass m, s = ±1 as
-// in assemble_cluster()): s_o·s_u·(x_o·y_u)/m, plus 2/m for x = y = t̂ (the spins: ΔS = −2·P_t/m
-// on both grains of a contact, and u_t holds −S_i − S_j). A sliding row o's tangential equation
-// is instead ΔP_t − sμΔP_n = sμP_n − P_t (zero after a sweep's clamp): its own block only.
-// The right-hand side: b − u at the current velocities for the velocity equations.
+// The frictional cluster's matrix A (see the header), by columns: for the entries of column k
+// with row ≤ k, value holds A(row, k) and lower A(k, row). Row u of w.order has its normal
+// unknown ΔP_n at w.first[u] and, if it sticks, its tangential one ΔP_t at w.first[u] + 1; a
+// sliding row's ΔP_t = sμΔP_n is substituted (its impulse acts along n̂ + sμt̂), so it has no
+// tangential unknown nor equation. Entry (x_o, y_u) is the change of row o's velocity along
+// x ∈ {n̂, t̂} per unit impulse of row u along y, summed over their shared mobile bodies (mass m,
+// s = ±1 as in assemble_cluster()): s_o·s_u·(x_o·y_u)/m, plus 2/m for x = y = t̂ (the spins:
+// ΔS = −2·P_t/m on both grains of a contact, and u_t holds −S_i − S_j). The right-hand side:
+// b − u at the current velocities (a sliding row's P_t is on its facet already: a sweep's
+// clamp puts it there exactly).
 void ClusterSolver::assemble_frictional_cluster(Scratch& w) const {
   const int m = int(w.order.size());
   const double mu = mu_;
-  w.start.assign(2 * m + 1, 0);
-  w.rhs.resize(2 * m);
   w.facet.resize(m);
+  w.first.resize(m + 1);
+  w.first[0] = 0;
+  for (int u = 0; u < m; ++u) {
+    const int c = w.order[u];
+    const Tangent& g = tangents_[c];
+    const int facet = std::fabs(g.pt) >= mu * rows_[c].pn ? (g.pt > 0 ? 1 : -1) : 0;
+    w.facet[u] = std::int8_t(facet);
+    w.first[u + 1] = w.first[u] + (facet != 0 ? 1 : 2);
+  }
+  const int unknowns = w.first[m];
+  w.start.assign(unknowns + 1, 0);
+  w.rhs.resize(unknowns);
   w.row.clear();
   w.value.clear();
   w.lower.clear();
   for (int u = 0; u < m; ++u) {
-    const int c = w.order[u];
-    const Row& a = rows_[c];
-    const Tangent& g = tangents_[c];
+    const Row& a = rows_[w.order[u]];
+    const Tangent& g = tangents_[w.order[u]];
     const Body &bi = bodies_[a.i], &bj = bodies_[a.j];
     const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
-    w.rhs[2 * u] = a.bn - (dvx * a.nx + dvy * a.ny);
-    const int facet = std::fabs(g.pt) >= mu * a.pn ? (g.pt > 0 ? 1 : -1) : 0;
-    w.facet[u] = std::int8_t(facet);
-    w.rhs[2 * u + 1] = facet != 0 ? facet * mu * a.pn - g.pt : g.bt - (dvy * a.nx - dvx * a.ny - (bi.spin + bj.spin));
+    w.rhs[w.first[u]] = a.bn - (dvx * a.nx + dvy * a.ny);
+    if (w.facet[u] == 0) w.rhs[w.first[u] + 1] = g.bt - (dvy * a.nx - dvx * a.ny - (bi.spin + bj.spin));
   }
   auto emit = [&](int row, double upper, double lower) {
     w.row.push_back(row);
@@ -418,42 +431,41 @@ void ClusterSolver::assemble_frictional_cluster(Scratch& w) const {
   };
   for (int u = 0; u < m; ++u) {
     const Row& a = rows_[w.order[u]];
-    const bool slides = w.facet[u] != 0;
+    const double su = w.facet[u] * mu;  // 0 for a sticking row
     // Calls f(o, nn, nt, tn, tt) for each row o ≤ u sharing a mobile body with row u, once per
     // shared body, with xy = s_o·s_u·(x_o·y_u)/m (+ 2/m in tt).
     auto neighbours = [&](auto&& f) {
       for (int body : {a.i, a.j}) {
         const double inv_mass = bodies_[body].inv_mass;
         if (inv_mass == 0) continue;
-        const double su = body == a.i ? 1.0 : -1.0;
+        const double side = body == a.i ? 1.0 : -1.0;
         for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
           const int o = unknown_[body_rows_[p]];
           if (o > u) continue;
           const Row& b = rows_[body_rows_[p]];
-          const double k = su * (body == b.i ? 1.0 : -1.0) * inv_mass;
+          const double k = side * (body == b.i ? 1.0 : -1.0) * inv_mass;
           // t̂ = ẑ × n̂ = (−n_y, n_x)
           f(o, k * (b.nx * a.nx + b.ny * a.ny), k * (b.nx * -a.ny + b.ny * a.nx), k * (-b.ny * a.nx + b.nx * a.ny),
             k * (b.ny * a.ny + b.nx * a.nx) + 2 * inv_mass);
         }
       }
     };
-    // Column 2u (row u's ΔP_n): rows 2o, and 2o + 1 for o < u. A sliding row's tangential
-    // equation holds no velocity term.
-    neighbours([&](int o, double nn, double, double tn, double) {
-      emit(2 * o, nn, nn);
-      if (o < u) emit(2 * o + 1, w.facet[o] ? 0.0 : tn, tn);
+    // Column of row u's normal unknown (impulse along n̂_u + s_uμt̂_u): rows N_o, and T_o for a
+    // sticking o < u.
+    neighbours([&](int o, double nn, double nt, double tn, double tt) {
+      const double so = w.facet[o] * mu;
+      emit(w.first[o], nn + su * nt, nn + so * tn);
+      if (o < u && w.facet[o] == 0) emit(w.first[o] + 1, tn + su * tt, tn);
     });
-    w.start[2 * u + 1] = int(w.row.size());
-    // Column 2u + 1 (row u's ΔP_t): rows 2o and 2o + 1.
+    w.start[w.first[u] + 1] = int(w.row.size());
+    if (w.facet[u] != 0) continue;
+    // Column of a sticking row u's tangential unknown: rows N_o and, for a sticking o, T_o.
     neighbours([&](int o, double, double nt, double, double tt) {
-      emit(2 * o, nt, slides ? 0.0 : nt);
-      emit(2 * o + 1, w.facet[o] ? 0.0 : tt, slides ? 0.0 : tt);
+      const double so = w.facet[o] * mu;
+      emit(w.first[o], nt, nt + so * tt);
+      if (w.facet[o] == 0) emit(w.first[o] + 1, tt, tt);
     });
-    if (slides) {
-      emit(2 * u, 0.0, -w.facet[u] * mu);
-      emit(2 * u + 1, 1.0, 1.0);
-    }
-    w.start[2 * u + 2] = int(w.row.size());
+    w.start[w.first[u] + 2] = int(w.row.size());
   }
 }
 

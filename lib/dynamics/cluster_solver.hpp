@@ -6,13 +6,14 @@
 // ordering its loops; Gauss–Seidel then corrects the set if it was wrong. This replaces the
 // slow linear tail of Gauss–Seidel on large, tree-like clusters.
 //
-// With friction a row has two unknowns, ΔP_n and ΔP_t, numbered together (2u, 2u + 1). The
-// Coulomb cone has two facets in 2D, so for a given state of each contact the local laws are
-// linear: a bearing row meets its normal bound; a sliding row (|P_t| = μP_n in the current
-// iterate) keeps to its facet, P_t = sμP_n; a sticking one meets its tangential target. The
-// matrix is then unsymmetric (the sliding rows) with a symmetric pattern, factorised as LDU
-// in the same order. A wrong state shows as a clamped or undone solve, which Gauss–Seidel
-// corrects before the next pass: an active-set method with Gauss–Seidel between its steps.
+// With friction the Coulomb cone has two facets in 2D, so for a given state of each contact
+// the local laws are linear: a bearing row meets its normal bound; a sliding row (|P_t| = μP_n
+// in the current iterate) keeps to its facet, P_t = sμP_n, and has ΔP_n as its only unknown
+// (its impulse acts along n̂ + sμt̂); a sticking one also has ΔP_t, and meets its tangential
+// target. The matrix is then unsymmetric (the sliding rows' impulse directions differ from
+// their constraint directions) with a symmetric pattern, factorised as LDU in the same order.
+// A wrong state shows as a clamped or undone solve, which Gauss–Seidel corrects before the
+// next pass: an active-set method with Gauss–Seidel between its steps.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -41,11 +42,12 @@ class ClusterSolver {
  private:
   // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
   // by columns), right-hand side and factor.
-  // With friction also the lower triangle's values (value holds the upper one) and each row's
-  // facet: 0 sticking, ±1 sliding with P_t = ±μP_n.
+  // With friction also the lower triangle's values (value holds the upper one), each row's
+  // facet (0 sticking, ±1 sliding with P_t = ±μP_n), its first unknown and the impulses kept
+  // for an undo.
   struct Scratch {
-    std::vector<int> order, peel, start, row;
-    std::vector<double> value, rhs, lower;
+    std::vector<int> order, peel, start, row, first;
+    std::vector<double> value, rhs, lower, old;
     std::vector<std::int8_t> facet;
     SparseLdl ldl;
   };
