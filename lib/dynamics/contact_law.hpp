@@ -47,4 +47,17 @@ inline double correction(const Row& r, const Tangent& t, const Local& l) {
   return std::max(std::fabs(l.pn - r.pn), 3 * std::fabs(l.pt - t.pt)) / r.inv_w;
 }
 
+// Adds the impulse ΔP = ΔP_n n̂ + ΔP_t t̂ of row r to its grains' velocities: +ΔP on i, −ΔP on
+// j, and ΔS = −2·ΔP_t/m on both (the torque of ±ΔP at the contact point, I = mR²/2).
+template <class Row, class Body>
+inline void add_impulse(const Row& r, Body& a, Body& b, double dpn, double dpt) {
+  const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
+  a.vx += a.inv_mass * px;
+  a.vy += a.inv_mass * py;
+  a.spin -= 2 * a.inv_mass * dpt;
+  b.vx -= b.inv_mass * px;
+  b.vy -= b.inv_mass * py;
+  b.spin -= 2 * b.inv_mass * dpt;
+}
+
 }  // namespace granflow

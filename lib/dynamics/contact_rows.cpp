@@ -6,6 +6,7 @@
 
 #include "dynamics/branch_free.hpp"
 #include "dynamics/capacity.hpp"
+#include "dynamics/contact_law.hpp"
 #include "dynamics/parallel.hpp"
 
 namespace granflow {
@@ -99,15 +100,7 @@ void ContactRows::load_bodies(const StepInput& in, const Tiling& tiling) {
     const Row& r = rows_[c];
     const double pt = friction ? tangents_[c].pt : 0.0;
     if (r.pn == 0 && pt == 0) continue;
-    Body& a = bodies_[r.i];
-    Body& b = bodies_[r.j];
-    const double px = r.pn * r.nx - pt * r.ny, py = r.pn * r.ny + pt * r.nx;
-    a.vx += a.inv_mass * px;
-    a.vy += a.inv_mass * py;
-    a.spin -= 2 * a.inv_mass * pt;
-    b.vx -= b.inv_mass * px;
-    b.vy -= b.inv_mass * py;
-    b.spin -= 2 * b.inv_mass * pt;
+    add_impulse(r, bodies_[r.i], bodies_[r.j], r.pn, pt);
   }
 }
 

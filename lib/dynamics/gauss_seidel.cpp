@@ -120,13 +120,7 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
           row_flags[c] = std::uint8_t((d >= upsilon * r.inv_w) * kHot | bears * kBearing);
           r.pn = pn;
           g.pt = pt;
-          const double px = dpn * r.nx - dpt * r.ny, py = dpn * r.ny + dpt * r.nx;
-          a.vx += a.inv_mass * px;
-          a.vy += a.inv_mass * py;
-          a.spin -= 2 * a.inv_mass * dpt;
-          b.vx -= b.inv_mass * px;
-          b.vy -= b.inv_mass * py;
-          b.spin -= 2 * b.inv_mass * dpt;
+          add_impulse(r, a, b, dpn, dpt);
         } else {
           // μ = 0: P_t stays 0 and the spins never change.
           const double pn = normal_impulse(r, a, b);
