@@ -13,7 +13,11 @@
 // target. The matrix is then unsymmetric (the sliding rows' impulse directions differ from
 // their constraint directions) with a symmetric pattern, factorised as LDU in the same order.
 // A wrong state shows as a clamped or undone solve, which Gauss–Seidel corrects before the
-// next pass: an active-set method with Gauss–Seidel between its steps.
+// next pass: an active-set method with Gauss–Seidel between its steps. A cluster with more
+// impulse unknowns than its grains' degrees of freedom (a grain wedged between two fixed ones,
+// a hyperstatic loop) has a self-stress; if sticking everywhere is then inconsistent, the
+// solve moves along the self-stress until a row reaches its cone's boundary, the state change
+// Gauss–Seidel alone only creeps towards (see step_along_self_stress()).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -33,9 +37,10 @@ class ClusterSolver {
   // kBearing) that holds a hot row (kHot), updating the impulses, the bodies' velocities and
   // the bearing flags, and flags the tiles of the rows it solved in moved and touched.
   // Returns the number of active rows of the largest cluster.
-  // With mu > 0 the rows' tangential impulses are solved too (see above).
+  // With mu > 0 the rows' tangential impulses are solved too (see above); upsilon is the
+  // tolerance on a velocity residual.
   int solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work, std::uint8_t* row_flags,
-            std::uint8_t* moved, std::uint8_t* touched, double mu, int threads);
+            std::uint8_t* moved, std::uint8_t* touched, double mu, double upsilon, int threads);
 
   std::size_t bytes() const;
 
@@ -43,11 +48,11 @@ class ClusterSolver {
   // Per thread: a cluster's numbering (unknown → row), peeling queue, matrix (upper triangle
   // by columns), right-hand side and factor.
   // With friction also the lower triangle's values (value holds the upper one), each row's
-  // facet (0 sticking, ±1 sliding with P_t = ±μP_n), its first unknown and the impulses kept
-  // for an undo.
+  // facet (0 sticking, ±1 sliding with P_t = ±μP_n), its first unknown, the impulses kept
+  // for an undo, and for a pinned unknown the right-hand side and a self-stress.
   struct Scratch {
     std::vector<int> order, peel, start, row, first;
-    std::vector<double> value, rhs, lower, old;
+    std::vector<double> value, rhs, lower, old, b, stress;
     std::vector<std::int8_t> facet;
     SparseLdl ldl;
   };
@@ -56,6 +61,7 @@ class ClusterSolver {
   void assemble_frictional_cluster(Scratch& w) const;
   bool apply_normal_solution(Scratch& w, int threads);
   bool apply_frictional_solution(Scratch& w, int threads);
+  void step_along_self_stress(Scratch& w);
   void order_loops(Scratch& w, int first);
   double cluster_residual(const Scratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
@@ -65,7 +71,7 @@ class ClusterSolver {
   Row* rows_ = nullptr;
   Body* bodies_ = nullptr;
   Tangent* tangents_ = nullptr;  // with friction only
-  double mu_ = 0;
+  double mu_ = 0, upsilon_ = 0;
   const std::array<int, 2>* row_bodies_ = nullptr;
   std::uint8_t* row_flags_ = nullptr;
 

@@ -44,6 +44,7 @@ class SparseLdl {
   void solve(std::vector<double>& x) const;
 
   int pinned() const { return pinned_; }
+  bool pinned(int k) const { return pinned_flag_[k] != 0; }
   // Rows of the last factorisation computed by the threads in parallel (0 when serial).
   int shared_rows() const { return shared_rows_; }
   std::size_t allocated_bytes() const;

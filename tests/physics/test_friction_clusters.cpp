@@ -340,6 +340,48 @@ TEST(FrictionClusters, Mu0_1) { check_friction(0.1, 11); }
 TEST(FrictionClusters, Mu0_4) { check_friction(0.4, 12); }
 TEST(FrictionClusters, Mu1) { check_friction(1.0, 13); }
 
+// A disk falling into the pocket between two fixed disks with a little restitution (e = 10⁻³):
+// two contacts, four impulse unknowns, three degrees of freedom, so the contacts hold a
+// self-stress (a compression along the chord between them) that moves no grain. The slight
+// rebound gives the two contacts different normal targets, so no impulses can let both stick:
+// one must slide. Gauss–Seidel alone drifts along the self-stress by a step as small as that
+// mismatch, for thousands of sweeps; the cluster solve steps along it to the cone's boundary
+// at once.
+TEST(FrictionClusters, WedgedGrainStepsAlongItsSelfStress) {
+  GrainState s = make_grains({Vec2(20, 20), Vec2(21.02, 20), Vec2(20.51, 20 + std::sqrt(1 - 0.51 * 0.51))},
+                             {0.5, 0.5, 0.5});
+  s.fixed[0] = s.fixed[1] = 1;
+  s.velocity[2] = Vec2(0.3, -1);
+  s.angular_velocity[2] = 0.2;
+  const double dt = 1e-3, alert = 0.1;
+  Box box;
+  box.lx = box.ly = 40;
+  const Material mat{1e-3, 0.0, 0.4};
+  const Reference ref = brute_force(s, mat, dt, alert);
+  ASSERT_EQ(ref.problem.contacts(), 2);
+  EXPECT_EQ(Eigen::FullPivLU<Eigen::MatrixXd>(ref.problem.W).rank(), 3);  // the self-stress
+  ASSERT_EQ(ref.solutions.size(), 1u);  // one contact slides, the other sticks
+  const Eigen::VectorXd& R = ref.solutions[0].impulse;
+  std::map<bool, int> sweeps, solves;
+  for (const bool clusters : {false, true}) {
+    SCOPED_TRACE(clusters ? "cluster_solves" : "Gauss-Seidel only");
+    Engine engine(s, box, 0.0, mat, tight_settings(clusters, alert), dt);
+    const StepReport& report = engine.step();
+    ASSERT_TRUE(report.converged);
+    sweeps[clusters] = report.iterations;
+    solves[clusters] = report.cluster_solves;
+    Eigen::VectorXd P;
+    engine_impulses(ref.problem, engine, dt, P);
+    if (testing::Test::HasFatalFailure()) return;
+    EXPECT_LE(check_laws(ref.problem, P).max(), kLawBound);
+    EXPECT_LE((P - R).cwiseAbs().maxCoeff(), kMatchBound * R.cwiseAbs().maxCoeff());
+  }
+  std::cout << "FrictionClusters wedged grain: sweeps " << sweeps[false] << " (Gauss-Seidel only) and "
+            << sweeps[true] << " (cluster solves, " << solves[true] << " passes)\n";
+  EXPECT_GT(sweeps[false], 1000);
+  EXPECT_LE(sweeps[true], 20);
+}
+
 // A large cluster (80 disks, loops, one fixed) squeezed together at μ = 0.4, e = 0: too many
 // contacts to enumerate, so the laws are checked on the engine's impulses. Gauss–Seidel alone
 // needs hundreds of sweeps; the exact frictional cluster solves land on a solution in a few
