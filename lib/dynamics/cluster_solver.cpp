@@ -283,65 +283,116 @@ bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
   return accepted;
 }
 
-// A pinned unknown k leaves its equation out of the frictional cluster's solve: its column is
-// a combination of the others, so the cluster holds a self-stress z (A·z = 0, z_k = 1) that
-// changes no velocity. If equation k is then not met (|r_k| ≥ Υ, r = b − A·ΔP), no impulses in
-// the current states meet every equation: some row must slide or open. The solution ΔP moves
-// along z in the direction that lowers the sticking system's energy ½ΔPᵀAΔP − bᵀΔP (by λ·r_k,
-// sign of r_k) until the first row reaches its cone's boundary (rows already outside it are left
-// to the projection), and that row is put on its facet or opened there; the next pass solves it
-// in its new state. Gauss–Seidel alone drifts along z as slowly as r_k is small: a grain wedged
-// between two fixed ones on an incline's base took over 10⁴ sweeps per step.
+// A pinned unknown k leaves its equation out of the frictional cluster's solve: A is singular,
+// with a self-stress z (A·z = 0, z_k = 1: impulses that move no grain) and a left null vector
+// y (yᵀ·A = 0, y_k = 1: a combination of the equations that no impulse changes), and the solve
+// is one of the line of solutions ΔP + λz. Where the cone's bounds on the contacts that z
+// touches leave an interval of λ, the solution moves into it:
+// - if equation k is met (|r_k| < Υ, r = b − A·ΔP), to the point of the interval nearest to
+//   λ = 0: without this, the projection of a self-stress far outside a cone undoes the solve;
+// - if it is not, no impulses in the current states meet every equation: b has a part β·y,
+//   β of the sign of r_k, that no impulse reaches, and some contact must change state where
+//   that part lets it: a sticking contact may slide on facet s if the unreachable part of its
+//   tangential equation pushes towards s (s·β·y_t > 0: the side a local solve would clamp it
+//   on), and a contact may open if that part of its normal equation pulls it apart
+//   (β·y_n < 0). The solution moves to the nearer end of the interval where such a change
+//   is, and that contact takes it (on its facet, or open) for the next pass. If the bounds
+//   leave no interval, only those that hold at λ = 0 count. Gauss–Seidel alone drifts along
+//   z by a step per sweep as small as r_k: a grain wedged between two fixed ones of an
+//   incline's base took over 10⁴ sweeps in one step.
 void ClusterSolver::step_along_self_stress(Scratch& w) {
   const int m = int(w.order.size()), n = w.first[m];
   std::vector<double>& x = w.rhs;  // the solved ΔP
+  w.stepped.clear();
   for (int k = 0; k < n; ++k) {
     if (!w.ldl.pinned(k)) continue;
-    // Column k of A into w.stress, and r_k. Entry p of column j (row i = w.row[p] ≤ j) holds
-    // A(i, j) in value and A(j, i) in lower.
+    // Column k of A into w.stress, row k into w.left, and r_k. Entry p of column j (row
+    // i = w.row[p] ≤ j) holds A(i, j) in value and A(j, i) in lower.
     w.stress.assign(n, 0.0);
+    w.left.assign(n, 0.0);
     double rk = w.b[k];
     for (int j = 0; j < n; ++j)
       for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
         const int i = w.row[p];
-        if (i == j) continue;  // the diagonal: z_k is set below, x_k is 0
+        if (i == j) continue;  // the diagonal: z_k and y_k are set below, x_k is 0
         if (i == k) {
           w.stress[j] += w.lower[p];
+          w.left[j] += w.value[p];
           rk -= w.value[p] * x[j];
         }
         if (j == k) {
           w.stress[i] += w.value[p];
+          w.left[i] += w.lower[p];
           rk -= w.lower[p] * x[i];
         }
       }
-    if (!(std::fabs(rk) >= upsilon_)) continue;
+    const bool met = !(std::fabs(rk) >= upsilon_);
     for (double& v : w.stress) v = -v;
-    w.ldl.solve(w.stress);  // the other unknowns of z (pinned ones 0)
-    w.stress[k] = 1;
-    const double sign = rk > 0 ? 1 : -1;
-    double lambda = std::numeric_limits<double>::infinity();
-    int hit = -1;
-    std::int8_t hit_state = 0;
-    // Each bound g0 + λ·g1 ≥ 0 that holds at λ = 0 caps λ.
-    auto cap = [&](int u, double g0, double g1, std::int8_t state) {
-      if (g0 >= 0 && g1 < 0 && g0 < lambda * -g1) lambda = g0 / -g1, hit = u, hit_state = state;
+    for (double& v : w.left) v = -v;
+    w.ldl.solve(w.stress);  // the other unknowns of z and y (pinned ones 0)
+    w.ldl.solve_transposed(w.left);
+    w.stress[k] = w.left[k] = 1;
+    // A row that an earlier step put on its facet or opened no longer has the freedom that
+    // z uses: a self-stress through it waits for the next pass, solved in the new states.
+    double size = 0;
+    for (double v : w.stress) size = std::max(size, std::fabs(v));
+    auto through = [&](int u) {
+      for (int q = w.first[u]; q < w.first[u + 1]; ++q)
+        if (std::fabs(w.stress[q]) > 1e-9 * size) return true;
+      return false;
+    };
+    if (std::any_of(w.stepped.begin(), w.stepped.end(), through)) continue;
+    // The interval [low, high] of λ over which ΔP + λz keeps every bound g0 + λ·g1 ≥ 0 of the
+    // contacts z touches, with the row and state at each end; in held, those that hold at 0.
+    struct End {
+      double lambda;
+      int row = -1;
+      std::int8_t state = 0;
+    };
+    struct Interval {
+      End high{std::numeric_limits<double>::infinity()}, low{-std::numeric_limits<double>::infinity()};
+      bool empty() const { return !(low.lambda <= high.lambda); }
+    } all, held;
+    auto bound = [&](int u, double g0, double g1, std::int8_t state) {
+      if (!(std::fabs(g1) > 1e-9 * size)) return;  // a contact that z does not touch
+      const double lambda = -g0 / g1;
+      for (Interval* in : {&all, &held}) {
+        if (in == &held && !(g0 >= 0)) continue;
+        End& end = g1 < 0 ? in->high : in->low;
+        if (g1 < 0 ? lambda < end.lambda : lambda > end.lambda) end = {lambda, u, state};
+      }
     };
     for (int u = 0; u < m; ++u) {
       const int c = w.order[u], q = w.first[u];
-      const double pn = rows_[c].pn + x[q], dn = sign * w.stress[q];
-      cap(u, pn, dn, kOpened);
+      const double pn = rows_[c].pn + x[q], dn = w.stress[q];
+      bound(u, pn, dn, kOpened);
       if (w.facet[u] != 0) continue;  // a sliding row stays on its facet
-      const double pt = tangents_[c].pt + x[q + 1], dt = sign * w.stress[q + 1];
-      cap(u, mu_ * pn - pt, mu_ * dn - dt, 1);
-      cap(u, mu_ * pn + pt, mu_ * dn + dt, -1);
+      const double pt = tangents_[c].pt + x[q + 1], dt = w.stress[q + 1];
+      bound(u, mu_ * pn - pt, mu_ * dn - dt, 1);
+      bound(u, mu_ * pn + pt, mu_ * dn + dt, -1);
     }
-    if (hit < 0) continue;
-    for (int q = 0; q < n; ++q) x[q] += lambda * sign * w.stress[q];
+    if (met) {
+      if (all.empty()) continue;
+      const double lambda = std::clamp(0.0, all.low.lambda, all.high.lambda);
+      for (int q = 0; q < n; ++q) x[q] += lambda * w.stress[q];
+      continue;
+    }
+    const Interval& in = all.empty() ? held : all;
+    auto allowed = [&](const End& end) {
+      if (end.row < 0) return false;
+      const int q = w.first[end.row];
+      return end.state == kOpened ? rk * w.left[q] < 0 : end.state * rk * w.left[q + 1] > 0;
+    };
+    const bool up = allowed(in.high), down = allowed(in.low);
+    if (!up && !down) continue;
+    const End& end = up && (!down || std::fabs(in.high.lambda) <= std::fabs(in.low.lambda)) ? in.high : in.low;
+    for (int q = 0; q < n; ++q) x[q] += end.lambda * w.stress[q];
+    w.stepped.push_back(end.row);
     // Exactly on the boundary, which round-off in x may have missed by an ulp.
-    if (hit_state == kOpened)
-      x[w.first[hit]] = -rows_[w.order[hit]].pn;
+    if (end.state == kOpened)
+      x[w.first[end.row]] = -rows_[w.order[end.row]].pn;
     else
-      w.facet[hit] = hit_state;
+      w.facet[end.row] = end.state;
   }
 }
 
@@ -573,7 +624,7 @@ std::size_t ClusterSolver::bytes() const {
   for (const Scratch& w : scratch_)
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
                heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
-               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.facet) + w.ldl.allocated_bytes();
+               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.facet) + heap_bytes(w.stepped) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
          heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);

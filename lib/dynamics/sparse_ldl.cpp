@@ -222,16 +222,24 @@ void SparseLdl::share_out(int n, int threads) {
     if (bin_[k] < 0 && parent_[k] >= 0 && bin_[parent_[k]] >= 0) bin_[k] = bin_[parent_[k]];
 }
 
-void SparseLdl::solve(std::vector<double>& x) const {
+// L·D·U x = b: L (unit lower) by columns in value_, U (unit upper) by rows in upper; for Aᵀ
+// the roles of the two arrays swap.
+void SparseLdl::substitute(const std::vector<double>& lower, const std::vector<double>& upper,
+                           std::vector<double>& x) const {
   const int n = int(diagonal_.size());
   for (int k = 0; k < n; ++k)
     if (pinned_flag_[k]) x[k] = 0;
   for (int j = 0; j < n; ++j)
-    for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[index_[p]] -= value_[p] * x[j];
+    for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[index_[p]] -= lower[p] * x[j];
   for (int j = 0; j < n; ++j) x[j] /= diagonal_[j];
-  const std::vector<double>& upper = unsymmetric_ ? upper_value_ : value_;
   for (int j = n - 1; j >= 0; --j)
     for (int p = start_[j]; p < start_[j] + count_[j]; ++p) x[j] -= upper[p] * x[index_[p]];
+}
+
+void SparseLdl::solve(std::vector<double>& x) const { substitute(value_, unsymmetric_ ? upper_value_ : value_, x); }
+
+void SparseLdl::solve_transposed(std::vector<double>& x) const {
+  substitute(unsymmetric_ ? upper_value_ : value_, value_, x);
 }
 
 std::size_t SparseLdl::allocated_bytes() const {

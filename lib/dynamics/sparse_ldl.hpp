@@ -42,6 +42,8 @@ class SparseLdl {
 
   // Solves A x = b in place (x holds b on entry); pinned unknowns come out 0.
   void solve(std::vector<double>& x) const;
+  // Solves Aᵀ x = b the same way (the same factor: Aᵀ = Uᵀ·D·Lᵀ).
+  void solve_transposed(std::vector<double>& x) const;
 
   int pinned() const { return pinned_; }
   bool pinned(int k) const { return pinned_flag_[k] != 0; }
@@ -57,6 +59,7 @@ class SparseLdl {
                   int* pattern, int size);
   bool factor_any(int n, const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value,
                   const double* lower, double drop, std::size_t max_fill, int threads);
+  void substitute(const std::vector<double>& lower, const std::vector<double>& upper, std::vector<double>& x) const;
   // Sets bin_[k]: the thread that computes row k, or −1 for rows computed after all
   // threads are done (ancestors of the subtrees shared out).
   void share_out(int n, int threads);

@@ -250,6 +250,25 @@ TEST(SparseLdu, SolvesUnsymmetricSystemWithSymmetricPattern) {
   }
 }
 
+// The same factor solves the transposed system (the cluster solves' left self-stresses).
+TEST(SparseLdu, SolvesTransposedSystem) {
+  for (std::uint64_t seed : {24u, 25u}) {
+    SCOPED_TRACE(seed);
+    const Eigen::MatrixXd a = sliding_gram(30, 100, 0.4, seed);
+    const Both u = both(a);
+    SparseLdl ldu;
+    ASSERT_TRUE(ldu.factor(60, u.start, u.row, u.upper, u.lower, 1e-9, 1 << 20));
+    Rng rng(seed + 100);
+    Eigen::VectorXd b(60);
+    for (int k = 0; k < 60; ++k) b(k) = rng.normal();
+    std::vector<double> x(b.data(), b.data() + 60);
+    ldu.solve_transposed(x);
+    const Eigen::VectorXd solution = Eigen::Map<Eigen::VectorXd>(x.data(), 60);
+    EXPECT_LT((a.transpose() * solution - b).norm(), 1e-10 * b.norm());
+    EXPECT_GT((a * solution - b).norm(), 1e-3 * b.norm());  // not the untransposed solve
+  }
+}
+
 // On a symmetric matrix the LDU form is the LDLᵀ: the same solution bit for bit.
 TEST(SparseLdu, SymmetricInputGivesTheLdlSolution) {
   const Eigen::MatrixXd a = sparse_gram(60, 120, 3);
