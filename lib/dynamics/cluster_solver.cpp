@@ -38,8 +38,8 @@ constexpr std::int8_t kOpened = 2;
 // sweep: W_AA·ΔP_A = b_A − u_A on its normal rows (μ = 0), then P_A ← max(0, P_A + ΔP_A).
 // Clusters share no mobile grain, so threads take them in any order.
 int ClusterSolver::solve(ContactRows& contacts, const Tiling& tiling, const std::vector<int>& work,
-                         std::uint8_t* row_flags, std::uint8_t* moved, std::uint8_t* touched, double mu,
-                         double upsilon, int threads) {
+                         std::uint8_t* row_flags, std::uint8_t* moved, std::uint8_t* touched, double mu, double upsilon,
+                         int threads) {
   mu_ = mu;
   upsilon_ = upsilon;
   tangents_ = mu > 0 ? contacts.tangents().data() : nullptr;
@@ -389,10 +389,8 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     for (int q = 0; q < n; ++q) x[q] += end.lambda * w.stress[q];
     w.stepped.push_back(end.row);
     // Exactly on the boundary, which round-off in x may have missed by an ulp.
-    if (end.state == kOpened)
-      x[w.first[end.row]] = -rows_[w.order[end.row]].pn;
-    else
-      w.facet[end.row] = end.state;
+    if (end.state == kOpened) x[w.first[end.row]] = -rows_[w.order[end.row]].pn;
+    else w.facet[end.row] = end.state;
   }
 }
 
@@ -624,7 +622,8 @@ std::size_t ClusterSolver::bytes() const {
   for (const Scratch& w : scratch_)
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
                heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
-               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.facet) + heap_bytes(w.stepped) + w.ldl.allocated_bytes();
+               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.facet) +
+               heap_bytes(w.stepped) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
          heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);

@@ -15,9 +15,9 @@
 // A wrong state shows as a clamped or undone solve, which Gauss–Seidel corrects before the
 // next pass: an active-set method with Gauss–Seidel between its steps. A cluster with more
 // impulse unknowns than its grains' degrees of freedom (a grain wedged between two fixed ones,
-// a hyperstatic loop) has a self-stress; if sticking everywhere is then inconsistent, the
-// solve moves along the self-stress until a row reaches its cone's boundary, the state change
-// Gauss–Seidel alone only creeps towards (see step_along_self_stress()).
+// a hyperstatic loop) has a self-stress, along which its solve moves into the cones, or, if
+// no impulses in the current states meet its equations, to the state change they call for,
+// which Gauss–Seidel alone only creeps towards (see step_along_self_stress()).
 #include <array>
 #include <cstddef>
 #include <cstdint>

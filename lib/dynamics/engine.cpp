@@ -144,8 +144,7 @@ void Engine::solve() {
       // number stays logarithmic in the sweeps of the step. The pass marks the tiles of the
       // rows it solved, to be swept next.
       const int largest = clusters_.solve(contacts_, tiling_, gauss_seidel_.work(), gauss_seidel_.row_flags(),
-                                          gauss_seidel_.moved(), gauss_seidel_.touched(), mu, upsilon,
-                                          threads);
+                                          gauss_seidel_.moved(), gauss_seidel_.touched(), mu, upsilon, threads);
       rep.largest_cluster = std::max(rep.largest_cluster, largest);
       ++rep.cluster_solves;
       next_cluster_solve = it + cluster_wait;

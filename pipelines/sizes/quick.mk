@@ -82,14 +82,16 @@ INCLINE_ANGLES_MU0      := 10 12 14
 # a dense layer already flowing at about the speed a μ = 0.4 layer keeps at 19-21°. From
 # gf-pack's dilute start the frictional collapse cost 818-2251 sweeps per step (~1 CPU hour
 # per 400 τ run); the branch skips the collapse and the slow acceleration, the layer dilates
-# to its frictional ν within ~5 τ. The dense frictional flow itself still needs ~900-1000
-# sweeps per step at the tolerance 1e-10 (1e-8 only saves 26 % and leaves steps at the sweep
-# limit), so the runs are short: 100 τ at 5e-3 τ, averaged from 30 τ. Cost: docs/results/chapter4.md, μ = 0.4.
+# to its frictional ν within ~5 τ, then relaxes from the parent's faster flow for ~100 τ. With
+# the frictional cluster solves the flow needs 43-84 sweeps per step (Gauss-Seidel alone
+# ~1000), so the runs go on to 400 τ at 5e-3 τ, averaged from 200 τ, where the flow rate of
+# the two halves of the window agrees within ~2 %: 130-420 s of CPU each (docs/performance.md,
+# "Frictional flows").
 INCLINE_ANGLES_MU04     := 19 20 21
 INCLINE_MU04_PARENT     := 14
-INCLINE_BRANCH_TIME     := 100
+INCLINE_BRANCH_TIME     := 400
 INCLINE_BRANCH_TIME_STEP := 5e-3
-INCLINE_BRANCH_FROM_TIME := 30
+INCLINE_BRANCH_FROM_TIME := 200
 INCLINE_BRANCH_TOLERANCE :=
 INCLINE_CRITICAL_ANGLES := 5 7
 INCLINE_TIME            := 400

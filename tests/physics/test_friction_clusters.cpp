@@ -348,8 +348,8 @@ TEST(FrictionClusters, Mu1) { check_friction(1.0, 13); }
 // mismatch, for thousands of sweeps; the cluster solve steps along it to the cone's boundary
 // at once.
 TEST(FrictionClusters, WedgedGrainStepsAlongItsSelfStress) {
-  GrainState s = make_grains({Vec2(20, 20), Vec2(21.02, 20), Vec2(20.51, 20 + std::sqrt(1 - 0.51 * 0.51))},
-                             {0.5, 0.5, 0.5});
+  GrainState s =
+      make_grains({Vec2(20, 20), Vec2(21.02, 20), Vec2(20.51, 20 + std::sqrt(1 - 0.51 * 0.51))}, {0.5, 0.5, 0.5});
   s.fixed[0] = s.fixed[1] = 1;
   s.velocity[2] = Vec2(0.3, -1);
   s.angular_velocity[2] = 0.2;
@@ -360,7 +360,7 @@ TEST(FrictionClusters, WedgedGrainStepsAlongItsSelfStress) {
   const Reference ref = brute_force(s, mat, dt, alert);
   ASSERT_EQ(ref.problem.contacts(), 2);
   EXPECT_EQ(Eigen::FullPivLU<Eigen::MatrixXd>(ref.problem.W).rank(), 3);  // the self-stress
-  ASSERT_EQ(ref.solutions.size(), 1u);  // one contact slides, the other sticks
+  ASSERT_EQ(ref.solutions.size(), 1u);                                    // one contact slides, the other sticks
   const Eigen::VectorXd& R = ref.solutions[0].impulse;
   std::map<bool, int> sweeps, solves;
   for (const bool clusters : {false, true}) {
@@ -376,8 +376,8 @@ TEST(FrictionClusters, WedgedGrainStepsAlongItsSelfStress) {
     EXPECT_LE(check_laws(ref.problem, P).max(), kLawBound);
     EXPECT_LE((P - R).cwiseAbs().maxCoeff(), kMatchBound * R.cwiseAbs().maxCoeff());
   }
-  std::cout << "FrictionClusters wedged grain: sweeps " << sweeps[false] << " (Gauss-Seidel only) and "
-            << sweeps[true] << " (cluster solves, " << solves[true] << " passes)\n";
+  std::cout << "FrictionClusters wedged grain: sweeps " << sweeps[false] << " (Gauss-Seidel only) and " << sweeps[true]
+            << " (cluster solves, " << solves[true] << " passes)\n";
   EXPECT_GT(sweeps[false], 1000);
   EXPECT_LE(sweeps[true], 20);
 }
