@@ -371,9 +371,22 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
       bound(u, mu_ * pn - pt, mu_ * dn - dt, 1);
       bound(u, mu_ * pn + pt, mu_ * dn + dt, -1);
     }
+    // z is a self-stress only up to the pinning threshold: a move along it must not change a
+    // velocity by Υ or more (A·z is not exactly 0), or repeated moves could drive the grains.
+    w.change.assign(n, 0.0);  // A·z
+    for (int j = 0; j < n; ++j)
+      for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
+        const int i = w.row[p];
+        w.change[i] += w.value[p] * w.stress[j];
+        if (i != j) w.change[j] += w.lower[p] * w.stress[i];
+      }
+    double drift = 0;
+    for (double v : w.change) drift = std::max(drift, std::fabs(v));
+    auto safe = [&](double lambda) { return std::fabs(lambda) * drift < upsilon_; };
     if (met) {
       if (all.empty()) continue;
       const double lambda = std::clamp(0.0, all.low.lambda, all.high.lambda);
+      if (!safe(lambda)) continue;
       for (int q = 0; q < n; ++q) x[q] += lambda * w.stress[q];
       continue;
     }
@@ -383,7 +396,7 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
       const int q = w.first[end.row];
       return end.state == kOpened ? rk * w.left[q] < 0 : end.state * rk * w.left[q + 1] > 0;
     };
-    const bool up = allowed(in.high), down = allowed(in.low);
+    const bool up = allowed(in.high) && safe(in.high.lambda), down = allowed(in.low) && safe(in.low.lambda);
     if (!up && !down) continue;
     const End& end = up && (!down || std::fabs(in.high.lambda) <= std::fabs(in.low.lambda)) ? in.high : in.low;
     for (int q = 0; q < n; ++q) x[q] += end.lambda * w.stress[q];
@@ -622,8 +635,8 @@ std::size_t ClusterSolver::bytes() const {
   for (const Scratch& w : scratch_)
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
                heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
-               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.facet) +
-               heap_bytes(w.stepped) + w.ldl.allocated_bytes();
+               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.change) +
+               heap_bytes(w.facet) + heap_bytes(w.stepped) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
          heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);
