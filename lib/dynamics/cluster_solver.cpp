@@ -328,10 +328,13 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
       }
     const bool met = !(std::fabs(rk) >= upsilon_);
     for (double& v : w.stress) v = -v;
-    for (double& v : w.left) v = -v;
-    w.ldl.solve(w.stress);  // the other unknowns of z and y (pinned ones 0)
-    w.ldl.solve_transposed(w.left);
-    w.stress[k] = w.left[k] = 1;
+    w.ldl.solve(w.stress);  // the other unknowns of z (pinned ones 0)
+    w.stress[k] = 1;
+    if (!met) {  // y only says which state change an unmet equation allows
+      for (double& v : w.left) v = -v;
+      w.ldl.solve_transposed(w.left);
+      w.left[k] = 1;
+    }
     // A row that an earlier step put on its facet or opened no longer has the freedom that
     // z uses: a self-stress through it waits for the next pass, solved in the new states.
     double size = 0;
