@@ -36,9 +36,12 @@ void expect_same_frame(const io::Frame& a, const io::Frame& b, const std::string
 const std::string kRun = "--rate 0.01 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --frame-every 100 --quiet";
 }  // namespace
 
+// The interrupted runs are 20 000 steps (about 2 s on an idle machine) so that the interruption, 300 ms after the
+// partial output appears, lands before the end however fast the machine is: a skip would assert nothing.
+
 TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
   ScratchDir dir("shear_resume");
-  const std::string steps = " --steps 3000 ";
+  const std::string steps = " --steps 20000 ";
   ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
 
   const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
@@ -63,7 +66,7 @@ TEST(GfShearResume, InterruptedAndResumedEqualsUninterrupted) {
 // the checkpoint: with rows 250 steps apart, an interruption almost surely falls between two.
 TEST(GfShearResume, TalliesBetweenRowsSurviveAResume) {
   ScratchDir dir("shear_resume_tally");
-  const std::string steps = " --steps 3000 --observe-every 250 ";
+  const std::string steps = " --steps 20000 --observe-every 250 ";
   ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + steps + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
   const std::string args = "-i " + packing() + steps + kRun + " -o " + (dir / "cut.h5");
   const int code = interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log1", 300);

@@ -43,7 +43,7 @@ void expect_same_run(const std::string& ref_path, const std::string& cut_path) {
 // checkpoint as they were, and the right --resume then reproduces the uninterrupted run.
 TEST(OutputsResume, RefusedResumeLeavesEverythingAsItWas) {
   ScratchDir dir("outputs_refused_resume");
-  const std::string steps = " --steps 3000 ";
+  const std::string steps = " --steps 20000 ";
   ASSERT_EQ(run_tool("gf-shear", "-i " + shear_packing() + steps + kShear + " -o " + (dir / "ref.h5")).exit_code, 0);
   const std::string args = "-i " + shear_packing() + steps + kShear + " -o " + (dir / "cut.h5");
   const int code = interrupted_run("gf-shear", args, dir / "cut.h5", dir / "log", 300, SIGTERM);
