@@ -31,6 +31,10 @@ constexpr int kSharedClusterRows = 2000;
 // A row that a step along a self-stress opens (P_n reaches 0); see step_along_self_stress().
 constexpr std::int8_t kOpened = 2;
 
+// Self-stresses solved for in one cluster solve at most: each costs a solve and two passes
+// over the matrix, and a jammed, hyperstatic cluster pins hundreds of unknowns.
+constexpr int kSelfStressesPerSolve = 8;
+
 }  // namespace
 
 // One exact solve, for the current active set, of each cluster of active contacts (joined
@@ -300,33 +304,59 @@ bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
 //   leave no interval, only those that hold at λ = 0 count. Gauss–Seidel alone drifts along
 //   z by a step per sweep as small as r_k: a grain wedged between two fixed ones of an
 //   incline's base took over 10⁴ sweeps in one step.
+// At most kSelfStressesPerSolve self-stresses are solved for, those of unmet equations first;
+// the others wait for the next pass.
 void ClusterSolver::step_along_self_stress(Scratch& w) {
   const int m = int(w.order.size()), n = w.first[m];
   std::vector<double>& x = w.rhs;  // the solved ΔP
   w.stepped.clear();
-  for (int k = 0; k < n; ++k) {
-    if (!w.ldl.pinned(k)) continue;
-    // Column k of A into w.stress, row k into w.left, and r_k. Entry p of column j (row
-    // i = w.row[p] ≤ j) holds A(i, j) in value and A(j, i) in lower.
+  // r = b − A·x (x_k = 0 for a pinned k). Entry p of column j (row i = w.row[p] ≤ j) holds
+  // A(i, j) in value and A(j, i) in lower.
+  std::vector<double>& r = w.b;
+  for (int j = 0; j < n; ++j)
+    for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
+      const int i = w.row[p];
+      r[i] -= w.value[p] * x[j];
+      if (i != j) r[j] -= w.lower[p] * x[i];
+    }
+  // The unmet equations first: they are what Gauss–Seidel cannot mend. A met one can only
+  // move x back into cones it leaves, so none is needed while x is inside every cone.
+  w.pinned.clear();
+  for (int k = 0; k < n; ++k)
+    if (w.ldl.pinned(k) && std::fabs(r[k]) >= upsilon_) w.pinned.push_back(k);
+  const std::size_t unmet = w.pinned.size();
+  for (int k = 0; k < n; ++k)
+    if (w.ldl.pinned(k) && !(std::fabs(r[k]) >= upsilon_)) w.pinned.push_back(k);
+  auto inside_cones = [&] {
+    for (int u = 0; u < m; ++u) {
+      const int c = w.order[u], q = w.first[u];
+      const double pn = rows_[c].pn + x[q];
+      if (!(pn >= 0)) return false;
+      if (w.facet[u] == 0 && !(std::fabs(tangents_[c].pt + x[q + 1]) <= mu_ * pn)) return false;
+    }
+    return true;
+  };
+  for (std::size_t e = 0; e < w.pinned.size() && e < std::size_t(kSelfStressesPerSolve); ++e) {
+    const int k = w.pinned[e];
+    const double rk = r[k];
+    const bool met = e >= unmet;
+    if (met && inside_cones()) break;
+    // Column k of A into w.stress, row k into w.left.
     w.stress.assign(n, 0.0);
     w.left.assign(n, 0.0);
-    double rk = w.b[k];
     for (int j = 0; j < n; ++j)
       for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
         const int i = w.row[p];
-        if (i == j) continue;  // the diagonal: z_k and y_k are set below, x_k is 0
+        if (i == j) continue;  // the diagonal: z_k and y_k are set below
         if (i == k) {
           w.stress[j] += w.lower[p];
           w.left[j] += w.value[p];
-          rk -= w.value[p] * x[j];
         }
         if (j == k) {
           w.stress[i] += w.value[p];
           w.left[i] += w.lower[p];
-          rk -= w.lower[p] * x[i];
         }
       }
-    const bool met = !(std::fabs(rk) >= upsilon_);
     for (double& v : w.stress) v = -v;
     w.ldl.solve(w.stress);  // the other unknowns of z (pinned ones 0)
     w.stress[k] = 1;
@@ -386,11 +416,17 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     double drift = 0;
     for (double v : w.change) drift = std::max(drift, std::fabs(v));
     auto safe = [&](double lambda) { return std::fabs(lambda) * drift < upsilon_; };
+    auto move = [&](double lambda) {
+      for (int q = 0; q < n; ++q) {
+        x[q] += lambda * w.stress[q];
+        r[q] -= lambda * w.change[q];
+      }
+    };
     if (met) {
       if (all.empty()) continue;
       const double lambda = std::clamp(0.0, all.low.lambda, all.high.lambda);
       if (!safe(lambda)) continue;
-      for (int q = 0; q < n; ++q) x[q] += lambda * w.stress[q];
+      move(lambda);
       continue;
     }
     const Interval& in = all.empty() ? held : all;
@@ -402,7 +438,7 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     const bool up = allowed(in.high) && safe(in.high.lambda), down = allowed(in.low) && safe(in.low.lambda);
     if (!up && !down) continue;
     const End& end = up && (!down || std::fabs(in.high.lambda) <= std::fabs(in.low.lambda)) ? in.high : in.low;
-    for (int q = 0; q < n; ++q) x[q] += end.lambda * w.stress[q];
+    move(end.lambda);
     w.stepped.push_back(end.row);
     // Exactly on the boundary, which round-off in x may have missed by an ulp.
     if (end.state == kOpened) x[w.first[end.row]] = -rows_[w.order[end.row]].pn;
@@ -639,7 +675,7 @@ std::size_t ClusterSolver::bytes() const {
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
                heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
                heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.change) +
-               heap_bytes(w.facet) + heap_bytes(w.stepped) + w.ldl.allocated_bytes();
+               heap_bytes(w.facet) + heap_bytes(w.stepped) + heap_bytes(w.pinned) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
          heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);

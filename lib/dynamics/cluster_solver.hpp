@@ -49,10 +49,11 @@ class ClusterSolver {
   // by columns), right-hand side and factor.
   // With friction also the lower triangle's values (value holds the upper one), each row's
   // facet (0 sticking, ±1 sliding with P_t = ±μP_n), its first unknown, the impulses kept
-  // for an undo, and for a pinned unknown the right-hand side, the self-stress, its velocity
-  // change (A·z, round-off) and left null vector, and the rows stepped onto a boundary.
+  // for an undo, and for the pinned unknowns (unmet equations first) the right-hand side, then
+  // the residual, the self-stress, its velocity change (A·z, round-off) and left null vector,
+  // and the rows stepped onto a boundary.
   struct Scratch {
-    std::vector<int> order, peel, start, row, first, stepped;
+    std::vector<int> order, peel, start, row, first, stepped, pinned;
     std::vector<double> value, rhs, lower, old, b, stress, left, change;
     std::vector<std::int8_t> facet;
     SparseLdl ldl;
