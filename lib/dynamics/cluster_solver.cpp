@@ -310,15 +310,18 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
   const int m = int(w.order.size()), n = w.first[m];
   std::vector<double>& x = w.rhs;  // the solved ΔP
   w.stepped.clear();
-  // r = b − A·x (x_k = 0 for a pinned k). Entry p of column j (row i = w.row[p] ≤ j) holds
-  // A(i, j) in value and A(j, i) in lower.
-  std::vector<double>& r = w.b;
-  for (int j = 0; j < n; ++j)
-    for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
-      const int i = w.row[p];
-      r[i] -= w.value[p] * x[j];
-      if (i != j) r[j] -= w.lower[p] * x[i];
-    }
+  // out += s·A·v. Entry p of column j (row i = w.row[p] ≤ j) holds A(i, j) in value and
+  // A(j, i) in lower.
+  auto multiply = [&](double s, const std::vector<double>& v, std::vector<double>& out) {
+    for (int j = 0; j < n; ++j)
+      for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
+        const int i = w.row[p];
+        out[i] += s * w.value[p] * v[j];
+        if (i != j) out[j] += s * w.lower[p] * v[i];
+      }
+  };
+  std::vector<double>& r = w.b;  // r = b − A·x (x_k = 0 for a pinned k)
+  multiply(-1.0, x, r);
   // The unmet equations first: they are what Gauss–Seidel cannot mend. A met one can only
   // move x back into cones it leaves, so none is needed while x is inside every cone.
   w.pinned.clear();
@@ -341,7 +344,7 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     const double rk = r[k];
     const bool met = e >= unmet;
     if (met && inside_cones()) break;
-    // Column k of A into w.stress, row k into w.left.
+    // Column k of A into w.stress, row k into w.left (the storage as in multiply()).
     w.stress.assign(n, 0.0);
     w.left.assign(n, 0.0);
     for (int j = 0; j < n; ++j)
@@ -407,12 +410,7 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     // z is a self-stress only up to the pinning threshold: a move along it must not change a
     // velocity by Υ or more (A·z is not exactly 0), or repeated moves could drive the grains.
     w.change.assign(n, 0.0);  // A·z
-    for (int j = 0; j < n; ++j)
-      for (int p = w.start[j]; p < w.start[j + 1]; ++p) {
-        const int i = w.row[p];
-        w.change[i] += w.value[p] * w.stress[j];
-        if (i != j) w.change[j] += w.lower[p] * w.stress[i];
-      }
+    multiply(1.0, w.stress, w.change);
     double drift = 0;
     for (double v : w.change) drift = std::max(drift, std::fabs(v));
     auto safe = [&](double lambda) { return std::fabs(lambda) * drift < upsilon_; };
