@@ -25,7 +25,7 @@
 // their cell centres (snapped_positions); a lag is moved by less than one cell diagonal in
 // each direction, |Δℓ| < |a1|/m1 + |a2|/m2. Grains closer than a cell can share one and
 // are lost from the sums; with cells smaller than the closest approach of two grains
-// (default σ/10) none are.
+// (default σ/20) none are.
 //
 // Determinism. Plans are made with FFTW_ESTIMATE: FFTW_MEASURE would time candidate
 // algorithms and keep the fastest, so two runs on the same input could use different
