@@ -298,12 +298,13 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
       for (const Run& r : *list)
         if (r.grains > largest->grains) largest = &r;
     const Box box = largest->reader.box(0);
-    // Only grains with a contact enter the sums: count them in the run's first averaged frame.
+    // Only grains with a contact enter the sums: count them in the run's last averaged frame
+    // (the first may be the contact-free start of a run averaged from strain 0).
     std::size_t loaded = 0;
     try {
-      loaded = loaded_grains(largest->reader.frame(largest->frames.front())).position.size();
+      loaded = loaded_grains(largest->reader.frame(largest->frames.back())).position.size();
     } catch (const UsageError& e) {
-      throw UsageError("'" + largest->path + "' frame " + std::to_string(largest->frames.front()) + ": " + e.what());
+      throw UsageError("'" + largest->path + "' frame " + std::to_string(largest->frames.back()) + ": " + e.what());
     }
     const double pairs = pair_sum_seconds(double(loaded), box, report.grid.max_lag());
     const std::string which =
