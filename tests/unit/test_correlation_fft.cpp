@@ -277,9 +277,10 @@ TEST(FftCorrelation, TenThousandGrainsAgreeWithPairSums) {
   std::printf("coarse-bin integrals of C: largest difference %.3g of the largest bin\n", worst / peak);
   EXPECT_LT(worst / peak, 0.03);
 
-  // The map. Its bins (σ/5) hold 3 or 4 columns and rows of grid lags (cells of σ/20, here
-  // commensurate with the lattice: a = 20 cells), so beside moving each lag by less than a
-  // cell the grid aliases against the map bins: the FFT map differs from the exact one by
+  // The map. Each of its bins (σ/5) sums the lag distribution at the 4 × 4 grid lags inside
+  // it (cells of σ/20, here commensurate with the lattice: a = 20 cells), a poor quadrature
+  // of the narrow neighbour shells beside moving each lag by less than a cell: the FFT map
+  // differs from the exact one by
   // ≈ 13 % of its rms on its own bins, ≈ 9 % on bins merged 5 × 5, several times more than
   // the exact map of grains moved at random by as much (printed for comparison). A wrong
   // sign, transposition or normalisation gives differences of order 1.
