@@ -56,10 +56,10 @@ struct RunSums {
   std::size_t contacts = 0;
 };
 
-// One pass over the run's frames: pair sums per block, the map, and the forces.
 // Adds one frame's pair sums and map (Correlator or FftCorrelator).
 using Accumulate = std::function<void(const LoadedGrains&, PairSums&, std::vector<double>&)>;
 
+// One pass over the run's frames: pair sums per block, the map, and the forces.
 RunSums accumulate_run(const Run& run, const LagGrid& grid, const Accumulate& accumulate, int blocks, bool full,
                        const std::function<void()>& done) {
   const std::size_t frames = run.frames.size();
