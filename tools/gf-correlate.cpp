@@ -58,7 +58,10 @@ int main(int argc, char** argv) {
                     "pairs");
     cli.real_option("fft-cell", 0, "G", "side of the FFT grid's cells (--map-method fft/auto); 0 = sigma/20", "0");
     cli.integer_option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
-    cli.real_option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
+    cli.real_option("map-bin", 0, "H",
+                    "side of the square bins of the C(l) map; 0 = sigma/5 (coarser beyond --max-lag 200 sigma: at most "
+                    "2000 bins per axis)",
+                    "0");
     cli.real_option("abs-bin-width", 0, "D",
                     "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4",
                     "0");
