@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "core/random.hpp"
+#include "correlation/fft_correlation.hpp"
 #include "correlation/force_correlation.hpp"
 #include "io/trajectory.hpp"
 
@@ -58,8 +59,11 @@ io::Frame synthetic_frame(int n, std::uint64_t seed) {
   return f;
 }
 
+// max_lag_sigma = 0: half the box (--whole-box), with map bins coarsened to the bound on the
+// map's side as gf-correlate's default does.
 LagGrid grid_for(const io::Frame& f, double max_lag_sigma) {
-  return LagGrid::make(kSigma / 20, std::min(max_lag_sigma * kSigma, 0.5 * f.box.lx), 24, kSigma / 5);
+  const double max_lag = max_lag_sigma > 0 ? std::min(max_lag_sigma * kSigma, 0.5 * f.box.lx) : 0.5 * f.box.lx;
+  return LagGrid::make(kSigma / 20, max_lag, 24, std::max(kSigma / 5, 2 * max_lag / kMaxMapSide));
 }
 }  // namespace
 
@@ -78,7 +82,45 @@ static void BM_CorrelateFrame(benchmark::State& state) {
   state.counters["grains"] = double(grains.position.size());
   state.counters["max_lag"] = grid.max_lag();
 }
-BENCHMARK(BM_CorrelateFrame)->Args({1000, 15})->Args({10000, 15})->Args({10000, 20})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CorrelateFrame)
+    ->Args({1000, 15})
+    ->Args({10000, 15})
+    ->Args({10000, 20})
+    ->Args({10000, 30})
+    ->Args({10000, 0})  // to half the box: every pair, N²
+    ->Unit(benchmark::kMillisecond);
+
+// Once each: every pair of a 10⁵-grain frame to half the box (the cost the FFT avoids), and
+// a 10⁶-grain frame at the default ℓ_max = 15σ.
+BENCHMARK(BM_CorrelateFrame)->Args({100000, 0})->Args({1000000, 15})->Iterations(1)->Unit(benchmark::kSecond);
+
+// The same sums by FFT (--map-method fft) on a grid of cells σ/divisor: {grains, ℓ_max in σ
+// (0: half the box), divisor}. The 10⁶-grain frame (≈ 0.5 GB of grid at σ/5) runs once.
+static void BM_CorrelateFrameFft(benchmark::State& state) {
+  const io::Frame frame = synthetic_frame(int(state.range(0)), 1);
+  const LagGrid grid = grid_for(frame, double(state.range(1)));
+  const LoadedGrains grains = loaded_grains(frame);
+  std::vector<double> map(std::size_t(grid.map_side()) * grid.map_side());
+  FftCorrelator fft(grid, kSigma / double(state.range(2)));
+  for (auto _ : state) {
+    PairSums sums(grid);
+    fft.accumulate(grains, sums, map);
+    benchmark::DoNotOptimize(sums.w.data());
+  }
+  state.counters["grains"] = double(grains.position.size());
+  state.counters["max_lag"] = grid.max_lag();
+  state.counters["grid_m1"] = fft.shape().m1;
+  state.counters["grid_m2"] = fft.shape().m2;
+}
+BENCHMARK(BM_CorrelateFrameFft)
+    ->Args({10000, 15, 20})
+    ->Args({10000, 30, 20})
+    ->Args({10000, 0, 20})
+    ->Args({10000, 0, 10})
+    ->Args({100000, 0, 20})
+    ->Args({100000, 0, 10})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CorrelateFrameFft)->Args({1000000, 0, 5})->Iterations(1)->Unit(benchmark::kSecond);
 
 // The average over 500 frames as gf-correlate does it per frame (forces per grain from the
 // contacts, then the pair sums), on 10 distinct frames cycled.

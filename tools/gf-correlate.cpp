@@ -48,8 +48,20 @@ int main(int argc, char** argv) {
     cli.real_option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
     cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)",
                     "0");
+    cli.flag("whole-box", 0,
+             "--max-lag = half the shorter box side of all runs, the largest lag whose minimum image is unique "
+             "(with --map-method fft or auto for large runs: the exact pair sums grow as N^2 there)");
+    cli.text_option("map-method", 0, "pairs|fft|auto",
+                    "pair sums of C(l), xi and the map: pairs = exact over every pair within --max-lag (the "
+                    "reference); fft = by FFT of the forces binned on a grid of --fft-cell (exact for grains moved to "
+                    "the cell centres); auto = whichever a cost model expects faster on the largest run",
+                    "pairs");
+    cli.real_option("fft-cell", 0, "G", "side of the FFT grid's cells (--map-method fft/auto); 0 = sigma/20", "0");
     cli.integer_option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
-    cli.real_option("map-bin", 0, "H", "side of the square bins of the C(l) map; 0 = sigma/5", "0");
+    cli.real_option("map-bin", 0, "H",
+                    "side of the square bins of the C(l) map; 0 = sigma/5 (coarser beyond --max-lag 200 sigma: at most "
+                    "2000 bins per axis)",
+                    "0");
     cli.real_option("abs-bin-width", 0, "D",
                     "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4",
                     "0");
@@ -91,6 +103,14 @@ int main(int argc, char** argv) {
     require_in_range("bin-width", s.bin_width, 0, INFINITY, false, true);
     require_in_range("max-lag", s.max_lag, 0, INFINITY, false, true);
     require_in_range("map-bin", s.map_bin, 0, INFINITY, false, true);
+    s.whole_box = cli.flag_set("whole-box");
+    const std::string method = cli.text("map-method");
+    if (method == "pairs") s.map_method = correlation::MapMethod::pairs;
+    else if (method == "fft") s.map_method = correlation::MapMethod::fft;
+    else if (method == "auto") s.map_method = correlation::MapMethod::automatic;
+    else throw UsageError("option --map-method: must be pairs, fft or auto, not '" + method + "'");
+    s.fft_cell = cli.real("fft-cell");
+    require_in_range("fft-cell", s.fft_cell, 0, INFINITY, false, true);
     s.abs_bin_width = cli.real("abs-bin-width");
     require_in_range("abs-bin-width", s.abs_bin_width, 0, INFINITY, false, true);
     s.magnitude.noise = cli.real("abs-noise");
@@ -150,6 +170,9 @@ int main(int argc, char** argv) {
                      report.results[i].magnitude.measurable ? "" : ", reaches the box",
                      report.results[i].peak.peak == 1 ? "peaks at f > 0" : "is largest at f = 0",
                      100 * report.results[i].peak.confidence);
+    if (!s.quiet && s.map_method == correlation::MapMethod::automatic)
+      std::fprintf(stderr, "gf-correlate: pair sums by %s (%s)\n",
+                   report.method == correlation::MapMethod::fft ? "fft" : "pairs", report.method_reason.c_str());
     return 0;
   });
 }

@@ -56,10 +56,12 @@ struct RunSums {
   std::size_t contacts = 0;
 };
 
+// Adds one frame's pair sums and map (Correlator or FftCorrelator).
+using Accumulate = std::function<void(const LoadedGrains&, PairSums&, std::vector<double>&)>;
+
 // One pass over the run's frames: pair sums per block, the map, and the forces.
-RunSums accumulate_run(const Run& run, const Correlator& correlator, int blocks, bool full,
+RunSums accumulate_run(const Run& run, const LagGrid& grid, const Accumulate& accumulate, int blocks, bool full,
                        const std::function<void()>& done) {
-  const LagGrid& grid = correlator.grid();
   const std::size_t frames = run.frames.size();
   const std::size_t block_count = std::min<std::size_t>(std::size_t(blocks), frames);
   RunSums s;
@@ -79,7 +81,7 @@ RunSums accumulate_run(const Run& run, const Correlator& correlator, int blocks,
     } catch (const UsageError& e) {
       throw UsageError("'" + run.path + "' frame " + std::to_string(k) + ": " + e.what());
     }
-    correlator.accumulate(grains, s.blocks[b], s.map);
+    accumulate(grains, s.blocks[b], s.map);
     s.contacts += frame.contacts.size();
     if (full) {
       s.normal[b].insert(s.normal[b].end(), frame.contacts.normal_force.begin(), frame.contacts.normal_force.end());
@@ -154,6 +156,25 @@ Clusters clusters_of(const Run& run, int window, long long frame) {
 
 }  // namespace
 
+// Constants measured with bench/bench_correlation (docs/performance.md, "gf-correlate"):
+// seconds per pair visited within ℓ_max by the exact sums, per grid point and log2 of the
+// grid size for the three transforms, and per lag within ℓ_max binned from the grid.
+// Measured on one core of a loaded machine: 9–13 ns per pair; 0.4–1.4 ns per point and log2
+// (the larger grids, beyond the caches, at the top); the estimates are good to a factor 2.
+constexpr double kSecondsPerPair = 10e-9;
+constexpr double kSecondsPerPointLog = 0.7e-9;
+constexpr double kSecondsPerLag = 10e-9;
+
+double pair_sum_seconds(double grains, const Box& box, double max_lag) {
+  return kSecondsPerPair * 0.5 * grains * grains * M_PI * max_lag * max_lag / box.area();
+}
+
+double fft_seconds(const Box& box, double cell, double max_lag) {
+  const FftShape shape = fft_shape(box, cell);
+  const double points = shape.points(), lags = points * M_PI * max_lag * max_lag / box.area();
+  return kSecondsPerPointLog * 3 * points * std::log2(points) + kSecondsPerLag * lags;
+}
+
 Run open_run(const std::string& path, double from_strain, bool detect_transient) {
   Run run{path, io::TrajectoryReader(path)};
   const io::TrajectoryReader& reader = run.reader;
@@ -218,7 +239,10 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
   for (const auto* list : {&report.runs, &report.references})
     for (const Run& r : *list)
       if (r.half_side < narrowest->half_side) narrowest = &r;
-  const double max_lag = settings.max_lag > 0 ? settings.max_lag : std::min(15 * sigma, narrowest->half_side);
+  if (settings.whole_box && settings.max_lag > 0) throw UsageError("give --max-lag or --whole-box, not both");
+  const double max_lag = settings.whole_box     ? narrowest->half_side
+                         : settings.max_lag > 0 ? settings.max_lag
+                                                : std::min(15 * sigma, narrowest->half_side);
   if (max_lag > narrowest->half_side)
     throw UsageError("option --max-lag: " + format_number(max_lag) + " exceeds half the shorter box side (" +
                      format_number(narrowest->half_side) + ") of '" + narrowest->path + "'");
@@ -230,8 +254,12 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
       throw UsageError("option --abs-bin-width: " + format_number(settings.abs_bin_width) +
                        " is not a whole multiple of the radial bin width " + format_number(bin_width));
   }
-  report.grid = LagGrid::make(bin_width, max_lag, settings.angle_bins,
-                              settings.map_bin > 0 ? settings.map_bin : sigma / 5, coarse);
+  // The default map bin σ/5, or coarser where that would exceed the bound on the map's side
+  // (lags beyond 200σ, reached only with --whole-box or a large --max-lag).
+  const double map_bin = settings.map_bin > 0                      ? settings.map_bin
+                         : 2 * max_lag / (sigma / 5) > kMaxMapSide ? 2 * max_lag / kMaxMapSide
+                                                                   : sigma / 5;
+  report.grid = LagGrid::make(bin_width, max_lag, settings.angle_bins, map_bin, coarse);
   report.settings.bin_width = report.grid.bin_width;
   report.settings.abs_bin_width = coarse * report.grid.bin_width;
   report.settings.max_lag = report.grid.max_lag();
@@ -256,18 +284,74 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
   std::string status;
   auto done = [&] { bar.update(++done_frames, status); };
 
+  // The method: fixed by the user, or the cheaper one by the cost model on the largest run.
+  const double cell = settings.fft_cell > 0 ? settings.fft_cell : sigma / 20;
+  report.settings.fft_cell = cell;
+  report.method = settings.map_method == MapMethod::fft ? MapMethod::fft : MapMethod::pairs;
+  report.method_reason = settings.map_method == MapMethod::automatic ? "" : "chosen by --map-method";
+  if (settings.map_method == MapMethod::fft)
+    for (const auto* list : {&report.runs, &report.references})
+      for (const Run& r : *list) (void)fft_shape(r.reader.box(0), cell);  // refuse a too fine grid before reading
+  if (settings.map_method == MapMethod::automatic) {
+    const Run* largest = &report.runs.front();
+    for (const auto* list : {&report.runs, &report.references})
+      for (const Run& r : *list)
+        if (r.grains > largest->grains) largest = &r;
+    const Box box = largest->reader.box(0);
+    // Only grains with a contact enter the sums: count them in the run's last averaged frame
+    // (the first may be the contact-free start of a run averaged from strain 0).
+    std::size_t loaded = 0;
+    try {
+      loaded = loaded_grains(largest->reader.frame(largest->frames.back())).position.size();
+    } catch (const UsageError& e) {
+      throw UsageError("'" + largest->path + "' frame " + std::to_string(largest->frames.back()) + ": " + e.what());
+    }
+    const double pairs = pair_sum_seconds(double(loaded), box, report.grid.max_lag());
+    const std::string which =
+        " for the largest run ('" + largest->path + "', " + std::to_string(loaded) + " grains with a contact)";
+    // A grid beyond the bound on every run's memory leaves the exact sums.
+    bool grid_fits = true;
+    for (const auto* list : {&report.runs, &report.references})
+      for (const Run& r : *list) try {
+          (void)fft_shape(r.reader.box(0), cell);
+        } catch (const UsageError&) {
+          grid_fits = false;
+        }
+    if (grid_fits) {
+      const double fft = fft_seconds(box, cell, report.grid.max_lag());
+      report.method = fft < pairs ? MapMethod::fft : MapMethod::pairs;
+      report.method_reason = "auto: estimated " + format_number(pairs) + " s per frame by pairs, " +
+                             format_number(fft) + " s by fft," + which;
+    } else {
+      report.method_reason = "auto: the FFT grid of --fft-cell " + format_number(cell) + " exceeds " +
+                             format_number(kMaxFftPoints) + " cells; estimated " + format_number(pairs) +
+                             " s per frame by pairs," + which;
+    }
+  }
   const Correlator correlator(report.grid);
+  FftCorrelator fft(report.grid, cell);
+  Accumulate accumulate = [&](const LoadedGrains& g, PairSums& s, std::vector<double>& m) {
+    correlator.accumulate(g, s, m);
+  };
+  if (report.method == MapMethod::fft)
+    accumulate = [&](const LoadedGrains& g, PairSums& s, std::vector<double>& m) { fft.accumulate(g, s, m); };
+  auto record_shape = [&](const Run& run) {
+    if (report.method == MapMethod::fft) report.fft_shapes.push_back(fft_shape(run.reader.box(0), cell));
+  };
+
   for (std::size_t i = 0; i < report.runs.size(); ++i) {
     const Run& run = report.runs[i];
     status = "run " + std::to_string(i + 1) + "/" + std::to_string(report.runs.size());
-    const RunSums sums = accumulate_run(run, correlator, settings.blocks, true, done);
+    const RunSums sums = accumulate_run(run, report.grid, accumulate, settings.blocks, true, done);
     report.results.push_back(summarise(sums, report.grid, settings, settings.seed + i));
+    record_shape(run);
   }
 
   std::vector<PairSums> pooled;
   for (std::size_t i = 0; i < report.references.size(); ++i) {
     status = "reference " + std::to_string(i + 1) + "/" + std::to_string(report.references.size());
-    const RunSums sums = accumulate_run(report.references[i], correlator, settings.blocks, false, done);
+    const RunSums sums = accumulate_run(report.references[i], report.grid, accumulate, settings.blocks, false, done);
+    record_shape(report.references[i]);
     report.reference_xi.push_back(correlation_length(total_of(sums.blocks, report.grid)));
     report.reference_xi_error.push_back(xi_error_of(sums.blocks));
     const MagnitudeLength m = magnitude_length(sums.blocks, report.grid, settings.magnitude);

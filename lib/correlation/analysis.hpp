@@ -19,6 +19,7 @@
 
 #include "correlation/anisotropy_fit.hpp"
 #include "correlation/decay_length.hpp"
+#include "correlation/fft_correlation.hpp"
 #include "correlation/force_correlation.hpp"
 #include "correlation/force_distribution.hpp"
 #include "correlation/sweep.hpp"
@@ -26,13 +27,20 @@
 
 namespace granflow::correlation {
 
+// How the pair sums are computed: exactly over pairs (the reference), by FFT of the gridded
+// forces (fft_correlation.hpp), or whichever the cost model below expects to be faster.
+enum class MapMethod { pairs, fft, automatic };
+
 struct Settings {
   double from_strain = 0.5;
   // Start each run's average where its own transient ends, if that is later than from_strain:
   // MSER on the block means of its T and p (statistics/steady.hpp, mser_first_row()).
   bool detect_transient = false;
-  double bin_width = 0;  // 0: σ/20, σ the mean grain diameter of the first run
-  double max_lag = 0;    // 0: min(15σ, half the shortest box side of all runs)
+  double bin_width = 0;    // 0: σ/20, σ the mean grain diameter of the first run
+  double max_lag = 0;      // 0: min(15σ, half the shortest box side of all runs)
+  bool whole_box = false;  // max_lag = half the shortest box side of all runs
+  MapMethod map_method = MapMethod::pairs;
+  double fft_cell = 0;  // side of the FFT grid's cells; 0: σ/20 (the default bin width)
   int angle_bins = 24;
   double map_bin = 0;        // 0: σ/5
   double abs_bin_width = 0;  // coarse bins of ξ_|C|; 0: the multiple of bin_width nearest to σ/4
@@ -109,7 +117,18 @@ struct Report {
   std::vector<double> xi_abs_ratio, xi_abs_ratio_error;
   std::vector<Crossing> crossings_abs;
   std::vector<Clusters> clusters;  // per run when settings.clusters_window > 0
+  // The method used (pairs or fft, also when settings.map_method is automatic), why, and
+  // with fft the grid of each run, then of each reference run.
+  MapMethod method = MapMethod::pairs;
+  std::string method_reason;
+  std::vector<FftShape> fft_shapes;
 };
+
+// The pair-sum cost model behind MapMethod::automatic (docs/performance.md): estimated
+// seconds per frame of the exact pair sums (pairs within ℓ_max, uniform density) and of
+// the FFT path (three transforms of the grid and a pass over its lags within ℓ_max).
+double pair_sum_seconds(double grains, const Box& box, double max_lag);
+double fft_seconds(const Box& box, double cell, double max_lag);
 
 // The whole analysis, with a progress bar over frames unless settings.quiet.
 Report correlate(const std::vector<std::string>& runs, const std::vector<std::string>& references,

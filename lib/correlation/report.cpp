@@ -107,6 +107,26 @@ void write_report(const std::string& path, const Report& report, const io::Param
             "C(l) = (1/W) sum_{i>j} F^i.F^j (1/2)[delta(l - r_ij) + delta(l + r_ij)], W = sum_i F^i.F^i, over "
             "grains with a contact, r_ij the Lees-Edwards minimum image, |r_ij| < max_lag; frames averaged as "
             "ratios of sums (thesis eq. 5.1, symmetrised in l)");
+  // The method is recorded when --map-method was other than the default (exact pairs), so
+  // that tables made without it keep their attributes.
+  if (report.settings.map_method != MapMethod::pairs) {
+    const bool fft = report.method == MapMethod::fft;
+    attrs.set("map_method", fft ? "fft" : "pairs");
+    attrs.set("map_method_reason", report.method_reason);
+    if (fft) {
+      attrs.set("fft_cell", report.settings.fft_cell);
+      std::string shapes;
+      for (const FftShape& shape : report.fft_shapes)
+        shapes += (shapes.empty() ? "" : ", ") + std::to_string(shape.m1) + "x" + std::to_string(shape.m2);
+      attrs.set("fft_grid", shapes);
+      attrs.set("fft_definition",
+                "pair sums by FFT: F^i added to the cell of an fft_grid of m1 x m2 cells in lattice coordinates "
+                "(u, v), r = u (Lx, 0) + v (s, Ly), s the Lees-Edwards offset reduced into [-Lx/2, Lx/2]; "
+                "sum_ij F^i.F^j per lattice lag (k1, k2) = IFFT(|FFT F_x|^2 + |FFT F_y|^2), mapped to the real lag "
+                "(k1/m1)(Lx, 0) + (k2/m2)(s, Ly), minimum image; equal to the exact pair sums of the grains moved "
+                "to their cell centres; fft_grid lists the runs, then the reference runs");
+    }
+  }
   w.write_attributes("/correlation", attrs);
   w.write("/correlation/r", {nb}, radial_centres(grid),
           "centre of the radial lag bin [r - bin_width/2, r + bin_width/2)", "length");
