@@ -1,0 +1,78 @@
+// gf-xdmf: an XDMF description of a trajectory for ParaView, beside it, pointing into its
+// datasets (docs/programs/gf-xdmf.md).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/cli.hpp"
+#include "core/error.hpp"
+#include "core/output_file.hpp"
+#include "core/tool.hpp"
+#include "io/trajectory.hpp"
+#include "io/xdmf.hpp"
+
+using namespace granflow;
+namespace fs = std::filesystem;
+
+namespace {
+
+// RUN.h5 -> RUN.xdmf (any other name: NAME.xdmf).
+std::string default_output(const std::string& input) {
+  fs::path p(input);
+  if (p.extension() == ".h5") return p.replace_extension(".xdmf").string();
+  return input + ".xdmf";
+}
+
+// The trajectory as the XDMF file names it: relative to the XDMF file's directory, so the
+// pair can move together (just the file name when they sit side by side).
+std::string name_from(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  const fs::path dir = fs::absolute(fs::path(output), ec).parent_path();
+  const fs::path relative = fs::absolute(fs::path(input), ec).lexically_normal().lexically_relative(dir);
+  const std::string name = relative.empty() ? fs::absolute(fs::path(input), ec).string() : relative.string();
+  // XDMF 2 separates the file from the dataset at the first colon.
+  if (name.find(':') != std::string::npos)
+    throw UsageError("'" + input + "': an XDMF file cannot name a trajectory whose path contains ':' ('" + name +
+                     "'); rename or move it");
+  return name;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return run_tool("gf-xdmf", [&] {
+    CommandLine cli(
+        "gf-xdmf", "-i RUN.h5 [-o RUN.xdmf] [options]",
+        "An XDMF 2 description of a trajectory (any granflow trajectory or packing) for ParaView: grains as points\n"
+        "with radius, mass, fixed, velocity, angular_velocity and orientation; the contacts of each stored frame\n"
+        "as segments from r_i to r_i - branch with normal_force, tangential_force, binary_force (F_bc) and age;\n"
+        "the box outline with the Lees-Edwards offset. One grid per stored frame, in time. Every array is a\n"
+        "reference into the trajectory's datasets, which the XDMF names relative to itself: keep the two files\n"
+        "together. Open it with ParaView's \"Xdmf Reader\" (docs/programs/gf-xdmf.md).");
+    cli.text_option("input", 'i', "FILE", "the trajectory (HDF5, docs/file-format.md)");
+    cli.text_option("output", 'o', "FILE",
+                    "the XDMF file to write; default: the input with .h5 replaced by .xdmf, beside it");
+    if (!cli.parse(argc, argv)) return 0;
+    if (!cli.has("input")) throw UsageError("option --input: a trajectory is required (-i RUN.h5)");
+    const std::string input = cli.text("input");
+    const std::string output = cli.has("output") ? cli.text("output") : default_output(input);
+
+    io::TrajectoryReader reader(input);
+    const std::string h5_name = name_from(output, input);
+    refuse_output_among_inputs(output, {input});
+    OutputFile out(output);
+    io::XdmfSummary summary;
+    const std::string text = io::xdmf_description(reader, h5_name, &summary);
+    {
+      std::ofstream file(out.temp_path(), std::ios::binary | std::ios::trunc);
+      file << text;
+      file.close();
+      if (!file) throw RuntimeFailure("cannot write '" + out.temp_path() + "'");
+    }
+    out.commit();
+    if (!cli.flag_set("quiet"))
+      std::fprintf(stderr, "gf-xdmf: %s: %zu frame(s), %zu grains, %zu contacts, referencing '%s'\n", output.c_str(),
+                   summary.frames, summary.grains, summary.contacts, h5_name.c_str());
+    return 0;
+  });
+}
