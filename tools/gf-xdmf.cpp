@@ -41,14 +41,14 @@ std::string name_from(const std::string& output, const std::string& input) {
 
 int main(int argc, char** argv) {
   return run_tool("gf-xdmf", [&] {
-    CommandLine cli(
-        "gf-xdmf", "-i RUN.h5 [-o RUN.xdmf] [options]",
-        "An XDMF 2 description of a trajectory (any granflow trajectory or packing) for ParaView: grains as points\n"
-        "with radius, mass, fixed, velocity, angular_velocity and orientation; the contacts of each stored frame\n"
-        "as segments from r_i to r_i - branch with normal_force, tangential_force, binary_force (F_bc) and age;\n"
-        "the box outline with the Lees-Edwards offset. One grid per stored frame, in time. Every array is a\n"
-        "reference into the trajectory's datasets, which the XDMF names relative to itself: keep the two files\n"
-        "together. Open it with ParaView's \"Xdmf Reader\" (docs/programs/gf-xdmf.md).");
+    CommandLine cli("gf-xdmf", "-i RUN.h5 [-o RUN.xdmf] [options]",
+                    "An XDMF 2 description of a trajectory (any granflow trajectory or packing) for ParaView:\n"
+                    "grains as points with radius, mass, fixed, velocity, angular_velocity and orientation; the\n"
+                    "contacts of each stored frame as segments from r_i to r_i - branch with normal_force,\n"
+                    "tangential_force, binary_force (F_bc) and age; the box outline with the Lees-Edwards offset.\n"
+                    "One grid per stored frame, in time. Every array is a reference into the trajectory's\n"
+                    "datasets, which the XDMF names relative to itself: keep the two files together. Open it with\n"
+                    "ParaView's \"Xdmf Reader\" (docs/programs/gf-xdmf.md).");
     cli.text_option("input", 'i', "FILE", "the trajectory (HDF5, docs/file-format.md)");
     cli.text_option("output", 'o', "FILE",
                     "the XDMF file to write; default: the input with .h5 replaced by .xdmf, beside it");
