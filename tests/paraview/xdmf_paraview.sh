@@ -6,8 +6,8 @@
 # 2. pvpython (check_xdmf.py) opens the XDMF with the Xdmf Reader and compares, for two frames,
 #    the points, cells and arrays with what h5py reads from the .h5 (xdmf_expected.py): grains,
 #    every contact segment r_i -> r_i - branch (contacts across the periodic and Lees-Edwards
-#    boundaries included), the forces, the box. Also a packing (no contacts) and a file whose
-#    frames hold 0 and 1 contacts (the XDMF's special forms).
+#    boundaries included), the forces, the box. Also a packing (no contacts), an incline run
+#    and a file whose frames hold 0 and 1 contacts (the XDMF's special forms).
 # 3. A deliberately wrong XDMF (segments to r_i + branch) must fail the same check.
 # 4. pvbatch renders disks and force chains (pipelines/paraview/force_chains.py) under a
 #    private Xvfb; the PNG must not be blank.
@@ -46,15 +46,21 @@ cd "$tmp"
 "$bin/gf-shear" -i pack.h5 -o flow.h5 --rate 1 --steps 300 --frame-every 100 --quiet
 "$bin/gf-xdmf" -i flow.h5 --quiet
 "$bin/gf-xdmf" -i pack.h5 -o pack.xdmf --quiet
+# An incline run: open in y, base grains fixed, times in tau.
+"$bin/gf-pack" --incline --width 10 --height 5 --seed 3 --quiet -o slope.h5
+"$bin/gf-incline" -i slope.h5 -o incline.h5 --angle 20 --time 10 --frame-every 2500 --quiet 2> incline.log
+"$bin/gf-xdmf" -i incline.h5 --quiet
 mkdir moved && mv flow.h5 flow.xdmf moved/
 
 # The frames checked: the second and the last one, plus the first (no contacts: a shear run's
 # start) in the file below.
 $python "$here/xdmf_expected.py" moved/flow.h5 flow.json 1 3
 $python "$here/xdmf_expected.py" pack.h5 pack.json 0
+$python "$here/xdmf_expected.py" incline.h5 incline.json 1 2
 mkdir other && cd other
 quietly pvpython "$here/check_xdmf.py" ../moved/flow.xdmf ../flow.json
 quietly pvpython "$here/check_xdmf.py" ../pack.xdmf ../pack.json
+quietly pvpython "$here/check_xdmf.py" ../incline.xdmf ../incline.json
 cd ..
 
 # Frames of 0 and 1 contacts: a copy whose frame 1 keeps only its first contact row.
