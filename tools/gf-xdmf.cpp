@@ -16,11 +16,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// RUN.h5 -> RUN.xdmf (any other name: NAME.xdmf).
+// RUN.h5 -> RUN.xdmf2 (any other name: NAME.xdmf2). ParaView opens .xdmf2 with its XDMF 2
+// reader without asking; for .xdmf it offers the Xdmf3 readers first, which cannot evaluate
+// the contacts' functions (ParaView 5.11's crashes on them).
 std::string default_output(const std::string& input) {
   fs::path p(input);
-  if (p.extension() == ".h5") return p.replace_extension(".xdmf").string();
-  return input + ".xdmf";
+  if (p.extension() == ".h5") return p.replace_extension(".xdmf2").string();
+  return input + ".xdmf2";
 }
 
 // The trajectory as the XDMF file names it: relative to the XDMF file's directory, so the
@@ -41,17 +43,18 @@ std::string name_from(const std::string& output, const std::string& input) {
 
 int main(int argc, char** argv) {
   return run_tool("gf-xdmf", [&] {
-    CommandLine cli("gf-xdmf", "-i RUN.h5 [-o RUN.xdmf] [options]",
+    CommandLine cli("gf-xdmf", "-i RUN.h5 [-o RUN.xdmf2] [options]",
                     "An XDMF 2 description of a trajectory (any granflow trajectory or packing) for ParaView:\n"
                     "grains as points with radius, mass, fixed, velocity, angular_velocity and orientation; the\n"
                     "contacts of each stored frame as segments from r_i to r_i - branch with normal_force,\n"
                     "tangential_force, binary_force (F_bc) and age; the box outline with the Lees-Edwards offset.\n"
                     "One grid per stored frame, in time. Every array is a reference into the trajectory's\n"
-                    "datasets, which the XDMF names relative to itself: keep the two files together. Open it with\n"
-                    "ParaView's \"Xdmf Reader\" (docs/programs/gf-xdmf.md).");
+                    "datasets, which the XDMF names relative to itself: keep the two files together. ParaView\n"
+                    "opens a .xdmf2 file with its \"Xdmf Reader\" (XDMF 2); for another name choose that reader\n"
+                    "(docs/programs/gf-xdmf.md).");
     cli.text_option("input", 'i', "FILE", "the trajectory (HDF5, docs/file-format.md)");
     cli.text_option("output", 'o', "FILE",
-                    "the XDMF file to write; default: the input with .h5 replaced by .xdmf, beside it");
+                    "the XDMF file to write; default: the input with .h5 replaced by .xdmf2, beside it");
     if (!cli.parse(argc, argv)) return 0;
     if (!cli.has("input")) throw UsageError("option --input: a trajectory is required (-i RUN.h5)");
     const std::string input = cli.text("input");

@@ -12,5 +12,5 @@ trap 'rm -rf "$tmp"' EXIT
 "$bin/gf-pack" --grains 2000 --packing-fraction 0.8 --seed 1 --quiet -o "$tmp/pack.h5"
 "$bin/gf-shear" -i "$tmp/pack.h5" -o "$tmp/flow.h5" --rate 1 --strain 0.5 --frame-every 100 --quiet
 "$bin/gf-xdmf" -i "$tmp/flow.h5"
-ls -l "$tmp/flow.h5" "$tmp/flow.xdmf" >&2
-xvfb-run -a pvbatch "$here/force_chains.py" "$tmp/flow.xdmf" "$out" --size 700 700 2>&1 | grep '^force_chains:'
+ls -l "$tmp/flow.h5" "$tmp/flow.xdmf2" >&2
+xvfb-run -a pvbatch "$here/force_chains.py" "$tmp/flow.xdmf2" "$out" --size 700 700 2>&1 | grep '^force_chains:'

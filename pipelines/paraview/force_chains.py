@@ -2,7 +2,7 @@
 disks of their radius (shaded by their velocity along x: the shear profile), the force chains (contacts coloured by
 normal force, on top) and the box outline, at one stored frame.
 
-    xvfb-run -a pvbatch pipelines/paraview/force_chains.py RUN.xdmf OUT.png [--frame K] [--size W H]
+    xvfb-run -a pvbatch pipelines/paraview/force_chains.py RUN.xdmf2 OUT.png [--frame K] [--size W H]
 
 --frame: index of the stored frame (negative counts from the end; default -1, the last).
 Writes OUT.png atomically (a temporary beside it, renamed). Used by the ParaView test

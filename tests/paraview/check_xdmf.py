@@ -1,12 +1,14 @@
 """Opens an XDMF file of gf-xdmf with ParaView's Xdmf Reader and compares what ParaView
 reads with what h5py read from the trajectory (xdmf_expected.py):
-pvpython check_xdmf.py RUN.xdmf EXPECTED.json. Exit 1 naming the first difference."""
+pvpython check_xdmf.py RUN.xdmf2 EXPECTED.json. Exit 1 naming the first difference. A .xdmf2
+file is opened as ParaView opens it by default (OpenDataFile), which must choose the Xdmf
+Reader; any other name with the Xdmf Reader explicitly."""
 import json
 import math
 import sys
 
 from paraview import servermanager
-from paraview.simple import XDMFReader
+from paraview.simple import OpenDataFile, XDMFReader
 
 failures = []
 
@@ -89,7 +91,13 @@ def check_frame(reader, k, e):
 
 def main():
     xdmf, expected = sys.argv[1], json.load(open(sys.argv[2]))
-    reader = XDMFReader(FileNames=[xdmf])
+    if xdmf.endswith(".xdmf2"):
+        reader = OpenDataFile(xdmf)
+        if reader is None or reader.GetXMLName() != "XdmfReader":
+            sys.exit(f"check_xdmf: ParaView opens {xdmf} with "
+                     f"{reader.GetXMLName() if reader else 'no reader'}, not the Xdmf Reader")
+    else:
+        reader = XDMFReader(FileNames=[xdmf])
     reader.UpdatePipelineInformation()
     times = [float(t) for t in reader.TimestepValues]
     check(len(times) == expected["frames"], f"{len(times)} time steps, expected {expected['frames']}")

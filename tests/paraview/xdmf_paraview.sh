@@ -50,7 +50,7 @@ cd "$tmp"
 "$bin/gf-pack" --incline --width 10 --height 5 --seed 3 --quiet -o slope.h5
 "$bin/gf-incline" -i slope.h5 -o incline.h5 --angle 20 --time 10 --frame-every 2500 --quiet 2> incline.log
 "$bin/gf-xdmf" -i incline.h5 --quiet
-mkdir moved && mv flow.h5 flow.xdmf moved/
+mkdir moved && mv flow.h5 flow.xdmf2 moved/
 
 # The frames checked: the second and the last one, plus the first (no contacts: a shear run's
 # start) in the file below.
@@ -58,9 +58,9 @@ $python "$here/xdmf_expected.py" moved/flow.h5 flow.json 1 3
 $python "$here/xdmf_expected.py" pack.h5 pack.json 0
 $python "$here/xdmf_expected.py" incline.h5 incline.json 1 2
 mkdir other && cd other
-quietly pvpython "$here/check_xdmf.py" ../moved/flow.xdmf ../flow.json
+quietly pvpython "$here/check_xdmf.py" ../moved/flow.xdmf2 ../flow.json
 quietly pvpython "$here/check_xdmf.py" ../pack.xdmf ../pack.json
-quietly pvpython "$here/check_xdmf.py" ../incline.xdmf ../incline.json
+quietly pvpython "$here/check_xdmf.py" ../incline.xdmf2 ../incline.json
 cd ..
 
 # Frames of 0 and 1 contacts: a copy whose frame 1 keeps only its first contact row.
@@ -73,16 +73,16 @@ with h5py.File("sparse.h5", "r+") as f:
 PY
 "$bin/gf-xdmf" -i sparse.h5 --quiet
 $python "$here/xdmf_expected.py" sparse.h5 sparse.json 0 1 2
-quietly pvpython "$here/check_xdmf.py" sparse.xdmf sparse.json
+quietly pvpython "$here/check_xdmf.py" sparse.xdmf2 sparse.json
 
 # The check must see a wrong geometry: segments to r_i + branch.
 sed 's/(\$0\[\$1 \* 2\] - \$2)/($0[$1 * 2] + $2)/; s/(\$0\[\$1 \* 2 + 1\] - \$3)/($0[$1 * 2 + 1] + $3)/' \
-  moved/flow.xdmf > moved/wrong.xdmf
-if cmp -s moved/flow.xdmf moved/wrong.xdmf; then
+  moved/flow.xdmf2 > moved/wrong.xdmf2
+if cmp -s moved/flow.xdmf2 moved/wrong.xdmf2; then
   echo "paraview.GfXdmf: the wrong XDMF was not made (the geometry expression changed?)" >&2
   exit 1
 fi
-if timeout 90 pvpython "$here/check_xdmf.py" moved/wrong.xdmf flow.json > wrong.log 2>&1; then
+if timeout 90 pvpython "$here/check_xdmf.py" moved/wrong.xdmf2 flow.json > wrong.log 2>&1; then
   echo "paraview.GfXdmf: check_xdmf.py accepted segments to r_i + branch" >&2
   exit 1
 fi
@@ -98,7 +98,7 @@ Xvfb -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3> display 2> xvfb.log &
 xvfb=$!
 for _ in $(seq 100); do [ -s display ] && break; sleep 0.1; done
 [ -s display ] || { echo "paraview.GfXdmf: Xvfb did not start:" >&2; cat xvfb.log >&2; exit 1; }
-DISPLAY=:$(head -1 display) quietly pvbatch "$src/pipelines/paraview/force_chains.py" moved/flow.xdmf chains.png \
+DISPLAY=:$(head -1 display) quietly pvbatch "$src/pipelines/paraview/force_chains.py" moved/flow.xdmf2 chains.png \
   --size 600 600
 $python - << 'PY'
 import sys

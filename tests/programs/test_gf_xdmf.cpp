@@ -68,7 +68,7 @@ TEST(GfXdmf, DescribesEveryFrameWithReferencesIntoTheTrajectory) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("4 frame(s), 200 grains"), std::string::npos) << r.err;
   EXPECT_EQ(read_text(run), before) << "the trajectory was changed";
-  const std::string xdmf = read_text(dir / "flow.xdmf");  // the default output, beside the input
+  const std::string xdmf = read_text(dir / "flow.xdmf2");  // the default output, beside the input
   ASSERT_FALSE(xdmf.empty());
   EXPECT_EQ(dir.entries(), 2) << "a temporary was left";
 
@@ -147,7 +147,7 @@ TEST(GfXdmf, DescribesEveryFrameWithReferencesIntoTheTrajectory) {
 
   // Written again: the same bytes (nothing in it depends on the time or the machine).
   ASSERT_EQ(run_tool("gf-xdmf", "-i " + run + " --quiet").exit_code, 0);
-  EXPECT_EQ(read_text(dir / "flow.xdmf"), xdmf);
+  EXPECT_EQ(read_text(dir / "flow.xdmf2"), xdmf);
 }
 
 TEST(GfXdmf, NamesTheTrajectoryRelativeToTheXdmfFile) {
@@ -193,7 +193,7 @@ TEST(GfXdmf, FrameWithOneContact) {
   }
   const int i = io::TrajectoryReader(run).frame(1).contacts.pair.at(0)[0];
   ASSERT_EQ(run_tool("gf-xdmf", "-i " + run + " -q").exit_code, 0);
-  const std::string xdmf = read_text(dir / "one.xdmf");
+  const std::string xdmf = read_text(dir / "one.xdmf2");
   const std::string n = std::to_string(io::TrajectoryReader(run).grain_count());
   EXPECT_NE(xdmf.find("Function=\"$0 ; ($0 - $1)\""), std::string::npos);
   EXPECT_NE(xdmf.find(slab("one.h5", "/particles/grains/position/value", "4 " + n + " 2",
