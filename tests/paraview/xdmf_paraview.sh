@@ -10,7 +10,7 @@
 #    and a file whose frames hold 0 and 1 contacts (the XDMF's special forms).
 # 3. A deliberately wrong XDMF (segments to r_i + branch) must fail the same check.
 # 4. pvbatch renders disks and force chains (pipelines/paraview/force_chains.py) under a
-#    private Xvfb; the PNG must not be blank.
+#    private Xvfb (pipelines/paraview/with_xvfb.sh); the PNG must not be blank.
 # Exit 77 (skipped) only when ParaView (pvpython, pvbatch) or Xvfb is not installed.
 set -euo pipefail
 src=$1 bin=$2
@@ -24,12 +24,7 @@ for tool in pvpython pvbatch Xvfb; do
   fi
 done
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/granflow_paraview.XXXXXX")
-xvfb=
-cleanup() {
-  [ -n "$xvfb" ] && kill "$xvfb" 2> /dev/null && wait "$xvfb" 2> /dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+trap 'rm -rf "$tmp"' EXIT
 start=$(date +%s)
 # ParaView's own messages (its logger, the XDMF library) go to a log shown on failure only.
 quietly() {
@@ -92,14 +87,9 @@ grep -q 'contact segments are not r_i to r_i - branch' wrong.log || {
   exit 1
 }
 
-# A private X server: Xvfb picks a free display itself and names it once it accepts clients
-# (no fixed display number, no race with other servers).
-Xvfb -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3> display 2> xvfb.log &
-xvfb=$!
-for _ in $(seq 100); do [ -s display ] && break; sleep 0.1; done
-[ -s display ] || { echo "paraview.GfXdmf: Xvfb did not start:" >&2; cat xvfb.log >&2; exit 1; }
-DISPLAY=:$(head -1 display) quietly pvbatch "$src/pipelines/paraview/force_chains.py" moved/flow.xdmf2 chains.png \
-  --size 600 600
+# A private X server (with_xvfb.sh: no fixed display number, no race with other servers).
+quietly bash "$src/pipelines/paraview/with_xvfb.sh" pvbatch "$src/pipelines/paraview/force_chains.py" \
+  moved/flow.xdmf2 chains.png --size 600 600
 $python - << 'PY'
 import sys
 import matplotlib.image
