@@ -17,8 +17,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // RUN.h5 -> RUN.xdmf2 (any other name: NAME.xdmf2). ParaView opens .xdmf2 with its XDMF 2
-// reader without asking; for .xdmf it offers the Xdmf3 readers first, which cannot evaluate
-// the contacts' functions (ParaView 5.11's crashes on them).
+// reader without asking; for .xdmf it asks in the GUI and takes an Xdmf3 reader in scripts,
+// which ParaView 5.11 ends with a segmentation fault on these files.
 std::string default_output(const std::string& input) {
   fs::path p(input);
   if (p.extension() == ".h5") return p.replace_extension(".xdmf2").string();
