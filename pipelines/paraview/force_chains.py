@@ -10,8 +10,16 @@ Writes OUT.png atomically (a temporary beside it, renamed). Used by the ParaView
 import argparse
 import os
 
-from paraview.simple import (ColorBy, ExtractBlock, GetColorTransferFunction, GetScalarBar, CreateView,
-                             SaveScreenshot, Show, XDMFReader)
+from paraview.simple import (
+    ColorBy,
+    ExtractBlock,
+    GetColorTransferFunction,
+    GetScalarBar,
+    CreateView,
+    SaveScreenshot,
+    Show,
+    XDMFReader,
+)
 from paraview import servermanager
 
 
@@ -89,8 +97,9 @@ def main():
     view.ResetCamera()
     view.CameraParallelProjection = 1
     view.ResetCamera()
-    temporary = os.path.join(os.path.dirname(os.path.abspath(args.png)), "." + os.path.basename(args.png) +
-                             ".part-%d.png" % os.getpid())
+    temporary = os.path.join(
+        os.path.dirname(os.path.abspath(args.png)), "." + os.path.basename(args.png) + ".part-%d.png" % os.getpid()
+    )
     try:
         SaveScreenshot(temporary, view, ImageResolution=args.size, TransparentBackground=0)
         os.replace(temporary, args.png)

@@ -52,18 +52,24 @@ def check_frame(reader, k, e):
     names = ["angular_velocity", "fixed", "mass", "orientation", "radius", "velocity"]
     check(arrays(grains.GetPointData()) == names, f"frame {k}: grain arrays {arrays(grains.GetPointData())}")
     points = [grains.GetPoint(p)[:2] for p in range(grains.GetNumberOfPoints())]
-    check(close([c for p in points for c in p], [c for p in e["position"] for c in p]), f"frame {k}: grain centres differ")
+    check(
+        close([c for p in points for c in p], [c for p in e["position"] for c in p]), f"frame {k}: grain centres differ"
+    )
     pd = grains.GetPointData()
     check(close(values(pd.GetArray("radius")), e["radius"]), f"frame {k}: radius differs")
     velocity = pd.GetArray("velocity")
-    check(close(values(velocity, 3), [c for v in e["velocity"] for c in (v[0], v[1], 0.0)]),
-          f"frame {k}: velocity differs (components {velocity.GetNumberOfComponents()})")
+    check(
+        close(values(velocity, 3), [c for v in e["velocity"] for c in (v[0], v[1], 0.0)]),
+        f"frame {k}: velocity differs (components {velocity.GetNumberOfComponents()})",
+    )
     check(close(values(pd.GetArray("angular_velocity")), e["angular_velocity"]), f"frame {k}: angular velocity differs")
     check(values(pd.GetArray("fixed")) == e["fixed"], f"frame {k}: fixed differs")
 
     corners = [box.GetPoint(p)[:2] for p in range(box.GetNumberOfPoints())]
-    check(close([c for p in corners for c in p], [c for p in e["box"]["corners"] for c in p]),
-          f"frame {k}: box corners {corners}, expected {e['box']['corners']}")
+    check(
+        close([c for p in corners for c in p], [c for p in e["box"]["corners"] for c in p]),
+        f"frame {k}: box corners {corners}, expected {e['box']['corners']}",
+    )
     check(box.GetNumberOfCells() == 1, f"frame {k}: box has {box.GetNumberOfCells()} cells")
     check(close(values(box.GetCellData().GetArray("offset")), [e["box"]["offset"]]), f"frame {k}: box offset differs")
 
@@ -81,8 +87,10 @@ def check_frame(reader, k, e):
         if not check(ids.GetNumberOfIds() == 2, f"frame {k}: contact {cell} has {ids.GetNumberOfIds()} points"):
             return
         ends += [contacts.GetPoint(ids.GetId(0))[:2], contacts.GetPoint(ids.GetId(1))[:2]]
-    check(close([x for p in ends for x in p], [x for p in e["ends"] for x in p]),
-          f"frame {k}: contact segments are not r_i to r_i - branch")
+    check(
+        close([x for p in ends for x in p], [x for p in e["ends"] for x in p]),
+        f"frame {k}: contact segments are not r_i to r_i - branch",
+    )
     for name in ("normal_force", "tangential_force", "binary_force"):
         check(close(values(contacts.GetCellData().GetArray(name)), e[name]), f"frame {k}: {name} differs")
     longest = max(math.dist(ends[2 * s], ends[2 * s + 1]) for s in range(c))
@@ -94,8 +102,10 @@ def main():
     if xdmf.endswith(".xdmf2"):
         reader = OpenDataFile(xdmf)
         if reader is None or reader.GetXMLName() != "XdmfReader":
-            sys.exit(f"check_xdmf: ParaView opens {xdmf} with "
-                     f"{reader.GetXMLName() if reader else 'no reader'}, not the Xdmf Reader")
+            sys.exit(
+                f"check_xdmf: ParaView opens {xdmf} with "
+                f"{reader.GetXMLName() if reader else 'no reader'}, not the Xdmf Reader"
+            )
     else:
         reader = XDMFReader(FileNames=[xdmf])
     reader.UpdatePipelineInformation()
@@ -109,9 +119,15 @@ def main():
         print("check_xdmf: " + f, file=sys.stderr)
     if failures:
         sys.exit(1)
-    print("check_xdmf: frames " + ", ".join(
-        f"{k} ({expected[k]['grains']} grains, {expected[k]['contacts']} contacts, {expected[k].get('wrapped', 0)} "
-        f"across a boundary)" for k in frames) + " as in the trajectory")
+    print(
+        "check_xdmf: frames "
+        + ", ".join(
+            f"{k} ({expected[k]['grains']} grains, {expected[k]['contacts']} contacts, {expected[k].get('wrapped', 0)} "
+            f"across a boundary)"
+            for k in frames
+        )
+        + " as in the trajectory"
+    )
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ def frame(f, k):
     lx, _, offset, ly = f[g + "/box/edges/value"][k].ravel()
     out["box"] = {"corners": [[0, 0], [lx, 0], [lx, ly], [0, ly]], "offset": float(offset)}
     if "/contacts" in f:
-        first, last = f["/contacts/frame_offset"][k:k + 2]
+        first, last = f["/contacts/frame_offset"][k : k + 2]
         i = f["/contacts/pair"][first:last, 0]
         branch = f["/contacts/branch"][first:last]
         ends = np.empty((2 * len(i), 2))
@@ -37,7 +37,9 @@ def frame(f, k):
         for name in ("normal_force", "tangential_force", "binary_force"):
             out[name] = f["/contacts/" + name][first:last].tolist()
         # Contacts drawn from r_i to r_j would cross the box: those whose branch is not r_i - r_j.
-        out["wrapped"] = int(np.sum(np.abs(pos[i] - pos[f["/contacts/pair"][first:last, 1]] - branch).max(axis=1) > 0.5 * min(lx, ly)))
+        out["wrapped"] = int(
+            np.sum(np.abs(pos[i] - pos[f["/contacts/pair"][first:last, 1]] - branch).max(axis=1) > 0.5 * min(lx, ly))
+        )
     else:
         out["contacts"] = 0
     return out
