@@ -41,7 +41,7 @@ shear_arg = $(patsubst $(1)%,%,$(word $(2),$(subst _, ,$(3))))
 .SECONDEXPANSION:
 $(RUNS)/shear_nu%.h5: $(RUNS)/pack_nu$$(call shear_arg,,1,$$*)_$$(call shear_arg,,5,$$*).h5 \
                       $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
+	$(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
 	  --seed $(call shear_arg,s,5,$*) --strain $(call shear_strain,$(call shear_arg,,1,$*)) \
 	  --strain-step $(SHEAR_STRAIN_STEP) --frame-every $(call shear_frame_every,$(call shear_arg,,1,$*))

@@ -64,14 +64,14 @@ $(RUNS)/incline_pack_w%.h5: $(STAMPS)/gf-pack.stamp | $(RUNS)/
 
 # Stem "<θ>_e<e>_mu<μ>_s<seed>".
 $(RUNS)/incline_th%.h5: $$(call incline_pack,$$(call shear_arg,s,4,$$*)) $(STAMPS)/gf-incline.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-incline --quiet -i $< -o $@ --angle $(call shear_arg,,1,$*) \
+	$(LAUNCH) $(BIN)/gf-incline --quiet $(call resume,gf-incline) -i $< -o $@ --angle $(call shear_arg,,1,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
 	  --time $(INCLINE_TIME) --time-step $(INCLINE_TIME_STEP) $(if $(INCLINE_FROM_TIME),--from-time $(INCLINE_FROM_TIME)) \
 	  --frame-every $(INCLINE_FRAME_EVERY) --profile-block $(INCLINE_PROFILE_BLOCK)
 
 # Stem "<θ>_e<e>_mu<μ>_s<seed>_from<θp>": from the last frame of the parent.
 $(RUNS)/incline_branch_th%.h5: $$(call incline_parent,$$*) $(STAMPS)/gf-incline.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-incline --quiet -i $< -o $@ --angle $(call shear_arg,,1,$*) \
+	$(LAUNCH) $(BIN)/gf-incline --quiet $(call resume,gf-incline) -i $< -o $@ --angle $(call shear_arg,,1,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) --frame -1 \
 	  --time $(INCLINE_BRANCH_TIME) --time-step $(INCLINE_BRANCH_TIME_STEP) \
 	  $(if $(INCLINE_BRANCH_FROM_TIME),--from-time $(INCLINE_BRANCH_FROM_TIME)) \

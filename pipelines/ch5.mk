@@ -31,7 +31,7 @@ ch5-files: $(CH5_FIGURES) $(CH5_TABLES)
 
 # Stem "<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>", as for the shear runs (shear_arg in ch4.mk).
 $(RUNS)/window_nu%.h5: $(RUNS)/shear_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< --frame -1 -o $@ --rate $(call shear_arg,r,4,$*) \
+	$(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< --frame -1 -o $@ --rate $(call shear_arg,r,4,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
 	  --seed $(call shear_arg,s,5,$*) --steps $(CH5_WINDOW_STEPS) --strain-step $(SHEAR_STRAIN_STEP) \
 	  --frame-every 1

@@ -53,13 +53,13 @@ ch6_eq_start  = $(if $(ch6_settle),$(RUNS)/eqsettle_nu$(1).h5,$(call ch6_settle_
 ch6_from      = $(if $(filter $(RUNS)/pack_nu%,$(2)),--temperature 1,--frame -1) --seed $(call ch6_seed,$(1))
 ch6_gas       = --quiet --rate 0 --restitution 1 --friction 0
 $(RUNS)/eqwarm_nu%.h5: $(RUNS)/pack_nu%.h5 $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt_warm,$*) \
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) $(call resume,gf-shear) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt_warm,$*) \
 	  --steps $(CH6_EQ_WARMUP_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_WARMUP_STEPS)
 $(RUNS)/eqsettle_nu%.h5: $$(call ch6_settle_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) $(call resume,gf-shear) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
 	  --steps $(CH6_EQ_SETTLE_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_SETTLE_STEPS)
 $(RUNS)/eq_nu%.h5: $$(call ch6_eq_start,$$*) $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
+	$(LAUNCH) $(BIN)/gf-shear $(ch6_gas) $(call resume,gf-shear) -i $< -o $@ $(call ch6_from,$*,$<) --dt $(call ch6_dt,$*) \
 	  --steps $(CH6_EQ_STEPS) --observe-every $(CH6_EQ_OBSERVE_EVERY) --frame-every $(CH6_EQ_FRAME_EVERY)
 
 $(CH6_TABLE): $(CH6_RUNS) $(CH6_EQ_RUNS) $(STAMPS)/gf-kinetic.stamp pipelines/sizes/$(SIZE).mk | $(RUNS)/
@@ -118,7 +118,7 @@ ch6-files: $(CH6_NETWORK_FIGURES) $(CH6_NETWORK_TABLE) $(CH6_NETWORK_HALFSTEP)
 # Stem "<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>", as for the shear runs (shear_arg in ch4.mk).
 $(RUNS)/halfstep_nu%.h5: $(RUNS)/pack_nu$$(call shear_arg,,1,$$*)_$$(call shear_arg,,5,$$*).h5 \
                          $(STAMPS)/gf-shear.stamp | $(RUNS)/
-	$(LAUNCH) $(BIN)/gf-shear --quiet -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
+	$(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< -o $@ --rate $(call shear_arg,r,4,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
 	  --seed $(call shear_arg,s,5,$*) --strain $(call shear_strain,$(call shear_arg,,1,$*)) \
 	  --strain-step $(CH6_HALFSTEP_STRAIN_STEP) \
@@ -223,7 +223,7 @@ ch6-files: $(CH6_STZ_FIGURES) $(CH6_D2MIN_TABLE) $(CH6_STZ_TABLE)
 
 # Stem "<ν>_e<e>_mu<μ>_r<γ̇>_s<seed>": from the last frame of the shear run of that stem, at +γ̇
 # (forward) or −γ̇ (backward).
-ch6_stz_branch = $(LAUNCH) $(BIN)/gf-shear --quiet -i $< --frame -1 -o $@ --rate $(1)$(call shear_arg,r,4,$*) \
+ch6_stz_branch = $(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< --frame -1 -o $@ --rate $(1)$(call shear_arg,r,4,$*) \
 	  --restitution $(call shear_arg,e,2,$*) --friction $(call shear_arg,mu,3,$*) \
 	  --seed $(call shear_arg,s,5,$*) --strain $(2) --strain-step $(SHEAR_STRAIN_STEP) \
 	  --frame-every $(CH6_STZ_FRAME_EVERY)
