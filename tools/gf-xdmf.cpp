@@ -26,12 +26,14 @@ std::string default_output(const std::string& input) {
 }
 
 // The trajectory as the XDMF file names it: relative to the XDMF file's directory, so the
-// pair can move together (just the file name when they sit side by side).
+// pair can move together (just the file name when they sit side by side). Both paths with
+// symbolic links resolved, as the system resolves "dir/../x" when ParaView opens it.
 std::string name_from(const std::string& output, const std::string& input) {
   std::error_code ec;
-  const fs::path dir = fs::absolute(fs::path(output), ec).parent_path();
-  const fs::path relative = fs::absolute(fs::path(input), ec).lexically_normal().lexically_relative(dir);
-  const std::string name = relative.empty() ? fs::absolute(fs::path(input), ec).string() : relative.string();
+  const fs::path dir = fs::weakly_canonical(fs::absolute(fs::path(output)), ec).parent_path();
+  const fs::path trajectory = fs::weakly_canonical(fs::absolute(fs::path(input)), ec);
+  const fs::path relative = ec ? fs::path() : trajectory.lexically_relative(dir);
+  const std::string name = relative.empty() ? fs::absolute(fs::path(input)).string() : relative.string();
   // XDMF 2 separates the file from the dataset at the first colon.
   if (name.find(':') != std::string::npos)
     throw UsageError("'" + input + "': an XDMF file cannot name a trajectory whose path contains ':' ('" + name +
