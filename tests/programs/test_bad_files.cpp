@@ -81,6 +81,7 @@ const std::map<std::string, std::string> kCommand = {
     {"gf-incline", "-i F -o OUT --angle 20 --steps 20 --profile-block 10 --quiet"},
     {"gf-correlate", "F -o OUT --from-strain 0 --quiet"},
     {"gf-kinetic", "F -o OUT --from-strain 0 --quiet"},
+    {"gf-xdmf", "-i F -o OUT --quiet"},
 };
 
 ToolResult run_on(const std::string& program, const std::string& file, const std::string& out) {
@@ -159,6 +160,8 @@ const std::string kMass = "/particles/grains/mass";
 std::vector<Crafted> crafted_cases() {
   const Sources& s = sources();
   const std::vector<std::string> starts = {"gf-pack", "gf-shear"};
+  // gf-xdmf reads no frame's grains, only the per-grain constants and the boxes.
+  const std::vector<std::string> constants = {"gf-pack", "gf-shear", "gf-xdmf"};
   const std::vector<std::string> runs = {"gf-shear", "gf-correlate", "gf-kinetic"};
   auto set = [](std::string dataset, std::size_t flat, double value) {
     return [=](const std::string& f) { poke(f, dataset, flat, value); };
@@ -181,17 +184,17 @@ std::vector<Crafted> crafted_cases() {
        {"grains 0 and 1", "overlap"}},
       {"position_nan", &s.packing, set(kPosition, 2 * 5, kNaN), starts, {kPosition, "grain 5"}},
       {"position_inf", &s.packing, set(kPosition, 2 * 5 + 1, kInf), starts, {kPosition, "grain 5"}},
-      {"box_width_nan", &s.packing, set(kEdges, 0, kNaN), starts, {kEdges, "width"}},
-      {"box_width_zero", &s.packing, set(kEdges, 0, 0.0), starts, {kEdges, "width"}},
-      {"box_width_negative", &s.packing, set(kEdges, 0, -17.0), starts, {kEdges, "width"}},
-      {"box_offset_nan", &s.packing, set(kEdges, 2, kNaN), starts, {kEdges, "offset"}},
-      {"box_height_zero", &s.packing, set(kEdges, 3, 0.0), starts, {kEdges, "height"}},
-      {"box_height_nan", &s.packing, set(kEdges, 3, kNaN), starts, {kEdges, "height"}},
-      {"radius_nan", &s.packing, set(kRadius, 3, kNaN), starts, {kRadius, "grain 3"}},
-      {"radius_negative", &s.packing, set(kRadius, 3, -0.5), starts, {kRadius, "grain 3"}},
-      {"radius_zero", &s.packing, set(kRadius, 3, 0.0), starts, {kRadius, "grain 3"}},
-      {"mass_zero", &s.packing, set(kMass, 4, 0.0), starts, {kMass, "grain 4"}},
-      {"mass_nan", &s.packing, set(kMass, 4, kNaN), starts, {kMass, "grain 4"}},
+      {"box_width_nan", &s.packing, set(kEdges, 0, kNaN), constants, {kEdges, "width"}},
+      {"box_width_zero", &s.packing, set(kEdges, 0, 0.0), constants, {kEdges, "width"}},
+      {"box_width_negative", &s.packing, set(kEdges, 0, -17.0), constants, {kEdges, "width"}},
+      {"box_offset_nan", &s.packing, set(kEdges, 2, kNaN), constants, {kEdges, "offset"}},
+      {"box_height_zero", &s.packing, set(kEdges, 3, 0.0), constants, {kEdges, "height"}},
+      {"box_height_nan", &s.packing, set(kEdges, 3, kNaN), constants, {kEdges, "height"}},
+      {"radius_nan", &s.packing, set(kRadius, 3, kNaN), constants, {kRadius, "grain 3"}},
+      {"radius_negative", &s.packing, set(kRadius, 3, -0.5), constants, {kRadius, "grain 3"}},
+      {"radius_zero", &s.packing, set(kRadius, 3, 0.0), constants, {kRadius, "grain 3"}},
+      {"mass_zero", &s.packing, set(kMass, 4, 0.0), constants, {kMass, "grain 4"}},
+      {"mass_nan", &s.packing, set(kMass, 4, kNaN), constants, {kMass, "grain 4"}},
       {"velocity_nan", &s.shear, set(kVelocity, 2 * (last * n + 7), kNaN), runs, {kVelocity, "grain 7", "frame 3"}},
       {"normal_force_nan",
        &s.shear,
@@ -320,7 +323,10 @@ TEST(BadFilesControl, UndamagedSourcesAreAccepted) {
                                                                                       {"gf-correlate", s.shear},
                                                                                       {"gf-kinetic", s.shear},
                                                                                       {"gf-incline", s.incline},
-                                                                                      {"gf-incline", s.incline_run}}) {
+                                                                                      {"gf-incline", s.incline_run},
+                                                                                      {"gf-xdmf", s.packing},
+                                                                                      {"gf-xdmf", s.shear},
+                                                                                      {"gf-xdmf", s.incline_run}}) {
     const ToolResult r = run_on(program, file, out / "out.h5");
     EXPECT_EQ(r.exit_code, 0) << program << " on " << file << ": " << r.err;
     std::filesystem::remove(out / "out.h5");

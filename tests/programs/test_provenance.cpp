@@ -219,7 +219,7 @@ INSTANTIATE_TEST_SUITE_P(
     refusal_name);
 
 TEST(ProgramHelp, EveryLineFitsOneHundredColumns) {
-  for (const char* tool : {"gf-pack", "gf-shear", "gf-incline", "gf-correlate", "gf-kinetic"}) {
+  for (const char* tool : {"gf-pack", "gf-shear", "gf-incline", "gf-correlate", "gf-kinetic", "gf-xdmf"}) {
     const std::string help = stdout_of(tool_path(tool) + " --help");
     ASSERT_NE(help.find("Options:"), std::string::npos) << tool;
     std::size_t start = 0;
