@@ -12,9 +12,10 @@ so that nothing is built), parses the gf-* command lines and costs every simulat
   --width, --height and --polydispersity).
 
   CPU seconds = grain-steps x a measured cost per grain-step:
-  - frictionless shear (mu = 0, rate != 0): --frictionless "nu:us,..." (microseconds per
-    grain-step at N = 10^4), log-linear in nu, flat outside the measured range; the same cost
-    for every restitution, widened by --restitution-spread (a factor, low:high);
+  - frictionless shear (mu = 0, rate != 0): --frictionless "E=nu:us,..." (microseconds per
+    grain-step at N = 10^4 and restitution E; "nu:us,..." alone is E = 0), one table per measured
+    restitution, log-linear in nu and flat outside its measured nu; a restitution between two
+    measured ones is costed as the range of the two tables' costs, one outside as the nearest;
   - frictional shear: bench/paper_estimate.py's costs and rule (--friction "nu:s_per_strain,..."
     measured at mu = 0.4, e = 0, strain step 1e-3, N = 10^4; an upper bound for mu = 0.1 and
     e = 0.5), converted to a cost per grain-step;
@@ -248,7 +249,7 @@ def parse_table(text, what):
 
 def parse_named(text, what):
     table = {}
-    for item in text.split(","):
+    for item in filter(None, text.split(",")):
         key, _, value = item.partition(":")
         try:
             table[key] = float(value)
@@ -259,10 +260,16 @@ def parse_named(text, what):
 
 class Costs:
     def __init__(self, args):
-        self.frictionless = parse_table(args.frictionless, "--frictionless")
+        self.frictionless = {}
+        for text in args.frictionless:
+            e, sep, table = text.rpartition("=")
+            try:
+                e = float(e) if sep else 0.0
+            except ValueError:
+                raise CostError(f"--frictionless: '{text}' is not E=nu:us,...")
+            self.frictionless[e] = parse_table(table, "--frictionless")
         self.friction = parse_table(args.friction, "--friction")
         self.equilibrium = parse_table(args.equilibrium, "--equilibrium")
-        self.spread = parse_range(args.restitution_spread, "--restitution-spread")
         self.incline = parse_range(args.incline, "--incline")
         self.incline_friction = parse_range(args.incline_friction, "--incline-friction")
         self.pack_us = args.pack_us_per_grain
@@ -295,8 +302,16 @@ class Costs:
             per_strain = paper_estimate.cost_at(self.friction, run["nu"])
             s = gs * per_strain * FRICTION_STRAIN_STEP / FRICTION_GRAINS
             return s, s
-        s = gs * paper_estimate.cost_at(self.frictionless, run["nu"]) * 1e-6
-        return s * self.spread[0], s * self.spread[1]
+        return tuple(gs * us * 1e-6 for us in self.frictionless_us(run["nu"], run["e"]))
+
+    def frictionless_us(self, nu, e):
+        """(low, high) us per grain-step at (nu, e) from the per-restitution tables."""
+        measured = sorted(self.frictionless)
+        below = [x for x in measured if x <= e + 1e-12]
+        above = [x for x in measured if x >= e - 1e-12]
+        pair = {below[-1] if below else above[0], above[0] if above else below[-1]}
+        costs = [paper_estimate.cost_at(self.frictionless[x], nu) for x in pair]
+        return min(costs), max(costs)
 
     def analysis_seconds(self, cmd, runs):
         program = cmd["program"] + (" " + cmd["sub"] if cmd["sub"] else "")
@@ -436,8 +451,8 @@ def main(argv=None):
     parser.add_argument("--repo", default=os.path.dirname(HERE), help="the granflow tree (Makefile.sweeps)")
     parser.add_argument("--size", default="paper", choices=["quick", "paper", "test"])
     parser.add_argument("--target", default="paper-files")
-    parser.add_argument("--frictionless", required=True, help="nu:us per grain-step,... (mu = 0 shear, N = 10^4)")
-    parser.add_argument("--restitution-spread", default="1:1", help="low:high factor on the frictionless cost")
+    parser.add_argument("--frictionless", required=True, action="append",
+                        help="E=nu:us per grain-step,... (mu = 0 shear, N = 10^4, restitution E; repeat per E)")
     parser.add_argument("--friction", required=True, help="nu:s per strain,... (mu = 0.4, e = 0, N = 10^4)")
     parser.add_argument("--equilibrium", required=True, help="nu:us per grain-step,... (rate 0, e = 1)")
     parser.add_argument("--incline", required=True, help="low:high us per grain-step, mu = 0")

@@ -120,23 +120,37 @@ class Sums(unittest.TestCase):
     def test_grain_steps_and_seconds(self):
         runs, analyses = paper_cost.parse_runs(MADE)
         args = argparse.Namespace(
-            frictionless="0.5:1,0.7:100", friction="0.7:3.6", equilibrium="0.5:2", restitution_spread="1:2",
+            frictionless=["0.5:1,0.7:100", "0.92=0.5:2"], friction="0.7:3.6", equilibrium="0.5:2",
             incline="3:6", incline_friction="10:20", pack_us_per_grain=0.0, incline_pack_seconds=0.0,
             analysis_ms="gf-correlate:1000", incline_grains="")
         costs = paper_cost.Costs(args)
         grain_steps, sim, ana = paper_cost.cost_of(runs, analyses, costs, runs)
         # 100*4000 + 200*3000 + 200*7 + 100*50 + 30*4000 + 30*2000
         self.assertEqual(grain_steps, 400000 + 600000 + 1400 + 5000 + 120000 + 60000)
-        # shear_a: 4e5 grain-steps at 1 us, times the spread 1..2; shear_b and its branch: 3.6 s per
+        # shear_a (e = 0): 4e5 grain-steps at 1 us; shear_b and its branch: 3.6 s per
         # strain at 1e-3 per step and 1e4 grains = 3.6e-7 s per grain-step; eq: 5000 at 2 us;
         # incline 1.2e5 at 3..6 us; branch 6e4 at 10..20 us.
         low = 0.4 + (600000 + 1400) * 3.6e-7 + 0.01 + 0.36 + 0.6
-        high = 0.8 + (600000 + 1400) * 3.6e-7 + 0.01 + 0.72 + 1.2
+        high = 0.4 + (600000 + 1400) * 3.6e-7 + 0.01 + 0.72 + 1.2
         self.assertAlmostEqual(sim[0], low, places=9)
         self.assertAlmostEqual(sim[1], high, places=9)
         # gf-correlate reads shear_a (6 frames), shear_b (31) and window_b (8), at 1 s per frame of
         # 10^4 grains: (6 * 100 + 31 * 200 + 8 * 200) / 1e4 s.
         self.assertAlmostEqual(ana, (6 * 100 + 31 * 200 + 8 * 200) / 1e4, places=12)
+
+    def test_restitution_tables(self):
+        args = argparse.Namespace(
+            frictionless=["0.5:1,0.7:100", "0.92=0.5:2,0.7:8"], friction="0.7:1", equilibrium="0.5:1",
+            incline="1:1", incline_friction="1:1", pack_us_per_grain=0.0, incline_pack_seconds=0.0,
+            analysis_ms="", incline_grains="")
+        costs = paper_cost.Costs(args)
+        # A measured e: its table (log-linear in nu: sqrt(1 * 100) = 10 at 0.6); between two: both
+        # tables' costs as the range; flat outside the measured nu.
+        for nu, e, expected in ((0.5, 0.0, (1, 1)), (0.6, 0.0, (10, 10)), (0.7, 0.92, (8, 8)),
+                                (0.7, 0.5, (8, 100)), (0.3, 0.25, (1, 2)), (0.5, 1.0, (2, 2))):
+            got = costs.frictionless_us(nu, e)
+            self.assertAlmostEqual(got[0], expected[0], places=10, msg=(nu, e))
+            self.assertAlmostEqual(got[1], expected[1], places=10, msg=(nu, e))
 
     def test_interpolation_is_paper_estimates(self):
         self.assertEqual(paper_cost.paper_estimate.cost_at.__module__, "paper_estimate")
@@ -210,6 +224,8 @@ class BadInput(unittest.TestCase):
     def test_bad_cost_pairs(self):
         bad = list(COSTS)
         bad[1] = "0.5"
+        self.assertIn("--frictionless", self.check(*bad))
+        bad[1] = "x=0.5:1"
         self.assertIn("--frictionless", self.check(*bad))
         bad = list(COSTS)
         bad[3] = "0.7:-1"
