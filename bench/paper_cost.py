@@ -23,7 +23,8 @@ so that nothing is built), parses the gf-* command lines and costs every simulat
   - incline, mu = 0: --incline low:high us; mu > 0 (branches): --incline-friction low:high us;
   - gf-pack: --pack-us-per-grain (biperiodic) and --incline-pack-seconds (one incline start);
   - analyses: frames read x --analysis-ms "program:ms,..." per frame at N = 10^4 (scaled
-    linearly in N), every stored frame of each input counted (the windows read fewer); the
+    linearly in N), every stored frame of each input counted (the windows read fewer; gf-stz
+    d2min: the frames it names); the
     Python tables and plots are not costed (they read the tables and observables).
 
 Prints a Markdown table: per figure what it needs, grain-steps, CPU hours (low-high); runs
@@ -318,6 +319,10 @@ class Costs:
         if program not in self.analysis_ms:
             return 0.0
         frames = 0
+        if "--frames" in cmd["options"]:  # gf-stz d2min reads the frames it names
+            source = runs.get(cmd["input"])
+            return len(cmd["options"]["--frames"].split(",")) * (source["grains"] / 1e4 if source else 1) \
+                * self.analysis_ms[program] * 1e-3
         for word in cmd["positional"] + [v for v in cmd["options"].values() if isinstance(v, str)]:
             for path in word.split(","):
                 if path in runs and runs[path]["kind"] not in ("pack", "incline-pack"):
@@ -461,8 +466,8 @@ def main(argv=None):
     parser.add_argument("--incline-pack-seconds", type=float, default=1.0, help="gf-pack --incline, one start")
     parser.add_argument("--incline-grains", default="", help="WIDTHxHEIGHT:GRAINS,... mobile grains counted in "
                         "gf-pack --incline starts (else the count is computed, ~1 %% low)")
-    parser.add_argument("--analysis-ms", default="gf-correlate:100,gf-kinetic:30,gf-network:30,gf-stz fit:30,"
-                        "gf-stz d2min:50", help="program:ms per frame at N = 10^4,...")
+    parser.add_argument("--analysis-ms", default="gf-correlate:28,gf-kinetic:7,gf-network:7,gf-stz fit:7,"
+                        "gf-stz d2min:110", help="program:ms per frame read at N = 10^4,...")
     args = parser.parse_args(argv)
     try:
         if not os.path.isfile(os.path.join(args.repo, "Makefile.sweeps")):
