@@ -49,6 +49,7 @@ B/gf-incline --quiet  -i R/incline_th20.h5 -o R/incline_branch.h5 --angle 30 \
    \
   --frame-every 1000 --profile-block 200
 B/gf-correlate --quiet -o R/table.h5 --reference R/shear_a.h5,R/shear_b.h5 R/window_b.h5
+B/gf-stz d2min --quiet --cutoff 2 -o R/d2.h5 -i R/shear_a.h5 --branch R/window_b.h5 --frames -1,10
 /usr/bin/python3 pipelines/plot/x.py --from-strain 0.5 F/fig.png R/shear_a.h5
 """
 
@@ -77,7 +78,7 @@ class Parser(unittest.TestCase):
         shear = [line for line in lines if "-o R/shear_a.h5" in line][0]
         self.assertIn("--strain-step 0.0005", shear)
         self.assertTrue(shear.endswith("--frame-every 800"), shear)
-        self.assertEqual(len([line for line in lines if "gf-" in line or "python3" in line]), 11)
+        self.assertEqual(len([line for line in lines if "gf-" in line or "python3" in line]), 12)
 
     def test_runs(self):
         r = self.runs
@@ -99,7 +100,10 @@ class Parser(unittest.TestCase):
         self.assertEqual((r["R/incline_th20.h5"]["grains"], r["R/incline_th20.h5"]["steps"]), (30, 4000))
         ib = r["R/incline_branch.h5"]
         self.assertEqual((ib["grains"], ib["steps"], ib["mu"], ib["branch"]), (30, 2000, 0.4, True))
-        self.assertEqual([a["program"] for a in self.analyses], ["gf-correlate", "python"])
+        self.assertEqual([(a["program"], a["sub"]) for a in self.analyses],
+                         [("gf-correlate", None), ("gf-stz", "d2min"), ("python", "x.py")])
+        # "--frames -1,10" is a value (negative), not an option.
+        self.assertEqual(self.analyses[1]["options"]["--frames"], "-1,10")
 
     def test_incline_start_without_grains(self):
         # lib/packing/incline.cpp's count: 0.8 * 100 * 50 / (pi/4 * (1 + 0.26^2/3)) = 4981;
@@ -122,7 +126,7 @@ class Sums(unittest.TestCase):
         args = argparse.Namespace(
             frictionless=["0.5:1,0.7:100", "0.92=0.5:2"], friction="0.7:3.6", equilibrium="0.5:2",
             incline="3:6", incline_friction="10:20", pack_us_per_grain=0.0, incline_pack_seconds=0.0,
-            analysis_ms="gf-correlate:1000", incline_grains="")
+            analysis_ms="gf-correlate:1000,gf-stz d2min:500", incline_grains="")
         costs = paper_cost.Costs(args)
         grain_steps, sim, ana = paper_cost.cost_of(runs, analyses, costs, runs)
         # 100*4000 + 200*3000 + 200*7 + 100*50 + 30*4000 + 30*2000
@@ -135,8 +139,9 @@ class Sums(unittest.TestCase):
         self.assertAlmostEqual(sim[0], low, places=9)
         self.assertAlmostEqual(sim[1], high, places=9)
         # gf-correlate reads shear_a (6 frames), shear_b (31) and window_b (8), at 1 s per frame of
-        # 10^4 grains: (6 * 100 + 31 * 200 + 8 * 200) / 1e4 s.
-        self.assertAlmostEqual(ana, (6 * 100 + 31 * 200 + 8 * 200) / 1e4, places=12)
+        # 10^4 grains: (6 * 100 + 31 * 200 + 8 * 200) / 1e4 s; gf-stz d2min the two frames it names
+        # of the 100-grain run, at 0.5 s per frame of 10^4 grains.
+        self.assertAlmostEqual(ana, (6 * 100 + 31 * 200 + 8 * 200) / 1e4 + 2 * 100 / 1e4 * 0.5, places=12)
 
     def test_restitution_tables(self):
         args = argparse.Namespace(
