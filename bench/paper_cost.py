@@ -383,6 +383,9 @@ def describe(runs):
     for key, group in by_kind(runs).items():
         sizes = sorted(set(r["grains"] for r in group))
         size = f"N = {sizes[0]}" if len(sizes) == 1 else f"N = {sizes[0]}–{sizes[-1]}"
+        if len(group) == 1:
+            for plural, singular in (("runs", "run"), ("starts", "start"), ("packings", "packing"), ("branches", "branch")):
+                key = key.replace(plural, singular)
         parts.append(f"{len(group)} {key}, {size}")
     return "; ".join(parts) if parts else "none"
 
