@@ -24,8 +24,8 @@ so that nothing is built), parses the gf-* command lines and costs every simulat
   - gf-pack: --pack-us-per-grain (biperiodic) and --incline-pack-seconds (one incline start);
   - analyses: frames read x --analysis-ms "program:ms,..." per frame at N = 10^4 (scaled
     linearly in N), every stored frame of each input counted (the windows read fewer; gf-stz
-    d2min: the frames it names); the
-    Python tables and plots are not costed (they read the tables and observables).
+    d2min: the frames it names); the Python tables and plots are not costed (they read the
+    tables and observables).
 
 Prints a Markdown table: per figure what it needs, grain-steps, CPU hours (low-high); runs
 shared by several figures are listed against each and counted once in the total.
