@@ -17,6 +17,9 @@
 #   WARM_STEP  its strain per step (gf-shear --strain-step) [1e-3]
 #   STEPS  steps of each timed run (1 and 2 threads)      [100]
 #   FRAMES stored frames of each timed run, besides step 0 [10]
+#   TILE   K: instead of gf-pack at N, a packing of N/K² grains sheared to strain 2 and tiled
+#          K x K (bench/tile_packing.py): the start for 10^6 grains, whose start from gf-pack's
+#          packing solves a box-spanning cluster every step and takes hours [unset]
 #   ONLY   space-separated subset of: pack warm shear1 shear2 correlate network kinetic d2min
 #          (a later stage reuses the files an earlier run of the script left in OUT)
 #
@@ -38,6 +41,7 @@ WARM_STEP=${WARM_STEP:-1e-3}
 STEPS=${STEPS:-100}
 FRAMES=${FRAMES:-10}
 ONLY=${ONLY:-pack warm shear1 shear2 correlate network kinetic d2min}
+TILE=${TILE:-}
 SIZES=("$@")
 [ ${#SIZES[@]} -gt 0 ] || SIZES=(100000 1000000)
 TIME=/usr/bin/time
@@ -50,7 +54,7 @@ every=$((STEPS / FRAMES))
 
 # Rows are appended (a repeated stage adds a row: repeats show the machine's spread); a
 # fresh OUT starts a fresh table.
-[ -f "$TSV" ] || printf 'program\tN\twall_s\tcpu_s\tpeak_rss_MiB\trss_B_per_grain\tengine_B_per_grain\tloop_s\tns_per_grain_step\tsweeps_per_step\tfile_MB\tframes\tkB_per_frame\tB_per_grain_frame\tload\tcommand\n' >"$TSV"
+[ -f "$TSV" ] || printf 'program\tN\twall_s\tcpu_s\tpeak_rss_MiB\trss_B_per_grain\tengine_B_per_grain\tloop_s\tns_per_grain_step\tcpu_ns_per_grain_step\tsweeps_per_step\tfile_MB\tframes\tkB_per_frame\tB_per_grain_frame\tload\tcommand\n' >"$TSV"
 
 load() { cut -d' ' -f1 /proc/loadavg; }
 wants() { [[ " $ONLY " == *" $1 "* ]]; }
@@ -67,7 +71,7 @@ run() {
   if ! "$TIME" -v -o "$log.time" "$@" 2>"$log.err"; then
     echo "million.sh: $name failed at N=$n; its stderr:" >&2
     tail -5 "$log.err" >&2
-    printf '%s\t%s\tFAILED\t\t\t\t\t\t\t\t\t\t\t\t%s\t%s\n' "$name" "$n" "$before" "$*" >>"$TSV"
+    printf '%s\t%s\tFAILED\t\t\t\t\t\t\t\t\t\t\t\t\t%s\t%s\n' "$name" "$n" "$before" "$*" >>"$TSV"
     return 1
   fi
   local wall cpu rss
@@ -76,12 +80,11 @@ run() {
   cpu=$(awk -F': ' '/User time/ { u = $2 } /System time/ { s = $2 } END { printf "%.2f", u + s }' "$log.time")
   rss=$(awk -F': ' '/Maximum resident set size/ { print $2 }' "$log.time")
   # gf-shear's summary: "gf-shear: S steps, T s, R steps/s, W sweeps/step[, engine E B/grain] -> F"
-  local loop="" nsgs="" sweeps="" engine=""
+  local loop="" nsgs="" sweeps="" engine="" steps=""
   if grep -q ' steps/s, ' "$log.err"; then
     loop=$(sed -n 's/.* steps, \([0-9.]*\) s, .*/\1/p' "$log.err" | tail -1)
     sweeps=$(sed -n 's/.* \([0-9.]*\) sweeps\/step.*/\1/p' "$log.err" | tail -1)
     engine=$(sed -n 's/.*engine \([0-9]*\) B\/grain.*/\1/p' "$log.err" | tail -1)
-    local steps
     steps=$(sed -n 's/.*: \([0-9]*\) steps, .*/\1/p' "$log.err" | tail -1)
     local rate
     rate=$(sed -n 's/.* \([0-9.]*\) steps\/s, .*/\1/p' "$log.err" | tail -1)
@@ -89,6 +92,10 @@ run() {
     nsgs=$(awk -v t="$loop" -v s="$steps" -v r="$rate" -v n="$n" \
       'BEGIN { printf "%.0f", (t * 10 >= r ? t / s : 1 / r) / n * 1e9 }')
   fi
+  # The process's CPU time per grain-step: start-up and the last frame included, so an upper
+  # bound, but far less inflated than the wall time when other work competes for the cores.
+  local cpuns=""
+  [ -z "$nsgs" ] || cpuns=$(awk -v c="$cpu" -v s="$steps" -v n="$n" 'BEGIN { printf "%.0f", c / s / n * 1e9 }')
   local size="" kbf="" bgf=""
   if [ -n "$file" ]; then
     local bytes
@@ -97,16 +104,27 @@ run() {
     kbf=$(awk -v b="$bytes" -v f="$frames" 'BEGIN { printf "%.0f", b / f / 1e3 }')
     bgf=$(awk -v b="$bytes" -v f="$frames" -v n="$n" 'BEGIN { printf "%.1f", b / f / n }')
   fi
-  printf '%s\t%s\t%s\t%s\t%.0f\t%.0f\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s-%s\t%s\n' "$name" "$n" "$wall" "$cpu" \
+  printf '%s\t%s\t%s\t%s\t%.0f\t%.0f\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s-%s\t%s\n' "$name" "$n" "$wall" "$cpu" \
     "$(awk -v r="$rss" 'BEGIN { print r / 1024 }')" "$(awk -v r="$rss" -v n="$n" 'BEGIN { print r * 1024 / n }')" \
-    "$engine" "$loop" "$nsgs" "$sweeps" "$size" "${file:+$frames}" "$kbf" "$bgf" "$before" "$(load)" "$*" >>"$TSV"
+    "$engine" "$loop" "$nsgs" "$cpuns" "$sweeps" "$size" "${file:+$frames}" "$kbf" "$bgf" "$before" "$(load)" "$*" >>"$TSV"
 }
 
 for n in "${SIZES[@]}"; do
   d=$OUT/n$n
   mkdir -p "$d"
   pack=$d/pack.h5 warm=$d/warm.h5 run1=$d/run_t1.h5 run2=$d/run_t2.h5
-  if wants pack; then
+  if wants pack && [ -n "$TILE" ]; then
+    # N/TILE² grains packed and sheared to strain 2 (offset a whole number of box widths),
+    # tiled TILE x TILE into the packing of N grains (bench/tile_packing.py).
+    small=$((n / (TILE * TILE)))
+    (( small * TILE * TILE == n )) || { echo "million.sh: N=$n is not TILE²=$((TILE * TILE)) times a whole number" >&2; exit 2; }
+    rm -f "$d/tile_pack.h5" "$d/tile_run.h5" "$pack"
+    run gf-pack "$small" "$d/tile_pack.h5" 1 "$BIN/gf-pack" -n "$small" --packing-fraction "$NU" -o "$d/tile_pack.h5" || continue
+    run "gf-shear to strain 2" "$small" "$d/tile_run.h5" 2 "$BIN/gf-shear" -i "$d/tile_pack.h5" -o "$d/tile_run.h5" \
+      --strain 2 --frame-every 2000 --threads 1 || continue
+    run "tile_packing.py ${TILE}x${TILE}" "$n" "$pack" 1 /usr/bin/python3 "$(dirname "$0")/tile_packing.py" \
+      "$d/tile_pack.h5" "$d/tile_run.h5" "$TILE" "$pack" || continue
+  elif wants pack; then
     rm -f "$pack"
     run gf-pack "$n" "$pack" 1 "$BIN/gf-pack" -n "$n" --packing-fraction "$NU" -o "$pack" || continue
   fi
@@ -144,12 +162,12 @@ done
 
 # The Markdown table: the columns a reader compares across N.
 {
-  echo "| program | N | wall s | CPU s | peak RSS MiB | RSS B/grain | engine B/grain | ns per grain-step | sweeps/step | file kB/frame | B/grain/frame | load before-after |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-  tail -n +2 "$TSV" | awk -F'\t' -v OFS=' | ' '{ print "| " $1, $2, $3, $4, $5, $6, $7, $9, $10, $13, $14, $15 " |" }'
+  echo "| program | N | wall s | CPU s | peak RSS MiB | RSS B/grain | engine B/grain | ns per grain-step (loop wall) | ns per grain-step (process CPU) | sweeps/step | file kB/frame | B/grain/frame | load before-after |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  tail -n +2 "$TSV" | awk -F'\t' -v OFS=' | ' '{ print "| " $1, $2, $3, $4, $5, $6, $7, $9, $10, $11, $14, $15, $16 " |" }'
   echo
   echo "Commands:"
   echo
-  tail -n +2 "$TSV" | awk -F'\t' '{ printf "- %s, N = %s: `%s`\n", $1, $2, $16 }'
+  tail -n +2 "$TSV" | awk -F'\t' '{ printf "- %s, N = %s: `%s`\n", $1, $2, $17 }'
 } >"$MD"
 cat "$MD"

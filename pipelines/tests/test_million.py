@@ -39,6 +39,7 @@ class MillionSmoke(unittest.TestCase):
                 self.assertLess(0.0, float(r["engine_B_per_grain"]))
                 self.assertLess(float(r["engine_B_per_grain"]), 1024.0)
                 self.assertGreater(float(r["ns_per_grain_step"]), 0.0)
+                self.assertGreater(float(r["cpu_ns_per_grain_step"]), 0.0)
                 self.assertGreater(float(r["sweeps_per_step"]), 0.0)
             # A timed run stores step 0 and FRAMES frames; its size per frame is the file's.
             one = shear["gf-shear 1T"]
@@ -51,6 +52,36 @@ class MillionSmoke(unittest.TestCase):
                 table = f.read()
             self.assertEqual(table.count("\n| gf-"), len(PROGRAMS))
             self.assertIn("`" + BIN + "/gf-pack -n 500", table)
+
+    def test_tiled_start(self):
+        # TILE=2 at 2000 grains: 500 grains sheared to strain 2, tiled 2 x 2 into the packing
+        # of the timed runs: four times the grains in a box twice as wide and tall, the
+        # radii and positions those of the run's last frame.
+        import h5py
+        import numpy as np
+        with tempfile.TemporaryDirectory() as out:
+            env = dict(os.environ, BIN=BIN, OUT=out, TILE="2", WARM="5", STEPS="5", FRAMES="1",
+                       ONLY="pack warm shear1")
+            done = subprocess.run(["bash", SCRIPT, "2000"], env=env, capture_output=True, text=True, timeout=300)
+            self.assertEqual(done.returncode, 0, done.stderr)
+            with open(os.path.join(out, "million.tsv")) as f:
+                rows = list(csv.DictReader(f, delimiter="\t"))
+            self.assertEqual([(r["program"], r["N"]) for r in rows],
+                             [("gf-pack", "500"), ("gf-shear to strain 2", "500"), ("tile_packing.py 2x2", "2000"),
+                              ("gf-shear warm-up", "2000"), ("gf-shear 1T", "2000")])
+            d = os.path.join(out, "n2000")
+            with h5py.File(os.path.join(d, "tile_run.h5")) as run, h5py.File(os.path.join(d, "pack.h5")) as pack:
+                small, big = run["particles/grains"], pack["particles/grains"]
+                self.assertEqual(len(big["radius"]), 4 * len(small["radius"]))
+                # The packing's box has no Lees-Edwards offset (the run's last one is whole widths).
+                np.testing.assert_allclose(np.diag(big["box/edges/value"][-1]), 2 * np.diag(small["box/edges/value"][-1]))
+                self.assertEqual(big["box/edges/value"][-1][1][0], 0.0)
+                self.assertEqual(sorted(big["radius"][()]), sorted(np.tile(small["radius"][()], 4)))
+                lx = small["box/edges/value"][-1][0][0]
+                folded = np.sort(np.mod(big["position/value"][0][:, 0], lx))
+                np.testing.assert_allclose(folded, np.sort(np.tile(np.mod(small["position/value"][-1][:, 0], lx), 4)),
+                                           atol=1e-9)
+                self.assertEqual(pack["parameters"].attrs["grains"], 2000)
 
 
 if __name__ == "__main__":
