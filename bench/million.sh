@@ -3,11 +3,12 @@
 # 2 threads, gf-correlate, gf-network, gf-kinetic and gf-stz d2min on one dense frictionless
 # run per N. For each program: wall and CPU time, peak resident memory (/usr/bin/time -v),
 # memory per grain, and for the trajectories the file size per stored frame. Writes
-# OUT/million.tsv (one row per program, N and repetition) and OUT/million.md (the same as a Markdown
-# table), and prints the latter. Figures and their reading: docs/performance.md,
+# OUT/million.tsv (one row per program, N and repetition) and OUT/million.md (the same as a
+# Markdown table), and prints the latter. Figures and their reading: docs/performance.md,
 # "A million grains".
 #
-#   bash bench/million.sh [N ...]            # default: 100000 1000000
+#   bash bench/million.sh [N ...]            # default: 100000
+#   TILE=10 WARM=100 STEPS=50 FRAMES=5 bash bench/million.sh 1000000   # the 10^6 column
 #
 # Environment (defaults in brackets):
 #   BIN    the programs                                   [build/bin]
@@ -26,9 +27,9 @@
 # The timed shear runs are branches from the last frame of the warm-up (gf-shear --frame -1)
 # at gf-shear's default strain step 1e-3, after WARM steps from the packing's affine start
 # (the first steps are the hardest). 600 steps (strain 0.6) are not yet the steady flow of
-# bench/bench_engine (after strain 2): at 10^6 grains 2000 steps would take most of an hour,
-# so the per-step cost measured here is an upper bound of the steady one; WARM=2000 at 10^5
-# measures how far above it is. The timed runs' per-step cost is the stepping
+# bench/bench_engine (after strain 2), so the per-step cost measured here is an upper bound
+# of the steady one; WARM=2000 at 10^5 measures how far above it is. At 10^6 the start from
+# a packing takes hours (see TILE). The timed runs' per-step cost is the stepping
 # loop's wall time from gf-shear's summary line on stderr (reading the input and writing the
 # last frame excluded, frame writing inside the loop included) divided by STEPS and N.
 set -euo pipefail
@@ -43,7 +44,7 @@ FRAMES=${FRAMES:-10}
 ONLY=${ONLY:-pack warm shear1 shear2 correlate network kinetic d2min}
 TILE=${TILE:-}
 SIZES=("$@")
-[ ${#SIZES[@]} -gt 0 ] || SIZES=(100000 1000000)
+[ ${#SIZES[@]} -gt 0 ] || SIZES=(100000)
 TIME=/usr/bin/time
 [ -x "$TIME" ] || { echo "million.sh: needs GNU time at $TIME (apt install time)" >&2; exit 2; }
 (( STEPS % FRAMES == 0 )) || { echo "million.sh: STEPS must be a multiple of FRAMES" >&2; exit 2; }
