@@ -185,12 +185,7 @@ void FftCorrelator::accumulate(const LoadedGrains& grains, PairSums& sums, std::
   // Every lattice lag within ℓ_max, binned as Correlator::accumulate bins a pair.
   const SectorIndex& sectors = *sectors_;
   const double max_lag = grid.max_lag(), cutoff2 = max_lag * max_lag;
-  const double inv_bin = 1 / grid.bin_width, inv_h = 1 / grid.map_bin, half = grid.map_half;
-  const int last_bin = grid.radial_bins - 1, side = grid.map_side();
-  std::vector<int> coarse_of(std::size_t(grid.radial_bins));
-  for (int b = 0; b < grid.radial_bins; ++b) coarse_of[std::size_t(b)] = b / grid.coarse;
-  const std::size_t coarse_bins = std::size_t(grid.coarse_bins());
-  const bool with_map = !map.empty();
+  LagBinner binner(grid, sectors, sums, map);
   // A(k)/2 per unordered pair, and FFTW's unnormalised inverse.
   const double scale = 0.5 / double(real);
   for (int k2 = 0; k2 < m2; ++k2) {
@@ -202,18 +197,7 @@ void FftCorrelator::accumulate(const LoadedGrains& grains, PairSums& sums, std::
       x -= box.lx * std::round(x / box.lx);
       const double lag2 = x * x + y * y;
       if (lag2 >= cutoff2 || lag2 == 0) continue;
-      const double weight = scale * w.grid[std::size_t(k2) * std::size_t(m1) + std::size_t(k1)];
-      const double lag = std::sqrt(lag2), inv_lag = 1 / lag;
-      const int b = std::min(int(lag * inv_bin), last_bin);
-      sums.w[b] += weight;
-      sums.w_over_lag[b] += weight * inv_lag;
-      const int bin = std::min(int(y * inv_h + half), side - 1) * side + std::min(int(x * inv_h + half), side - 1);
-      const int k = sectors.of(bin, x, y, inv_lag);
-      sums.sector[k] += weight;
-      const std::size_t kc = std::size_t(k) * coarse_bins + std::size_t(coarse_of[std::size_t(b)]);
-      sums.sector_w[kc] += weight;
-      sums.sector_w_over_lag[kc] += weight * inv_lag;
-      if (with_map) map[bin] += weight;
+      binner.add(x, y, lag2, scale * w.grid[std::size_t(k2) * std::size_t(m1) + std::size_t(k1)]);
     }
   }
 }

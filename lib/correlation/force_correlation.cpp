@@ -245,30 +245,11 @@ void Correlator::accumulate(const LoadedGrains& grains, PairSums& sums, std::vec
   const LagPairs pairs(grains.position, grains.box, grid.max_lag());
   std::vector<Vec2> force;  // in the visitor's order, so that a cell's forces are adjacent
   for (int i : pairs.order()) force.push_back(grains.force[i]);
-  const double inv_bin = 1 / grid.bin_width, inv_h = 1 / grid.map_bin, half = grid.map_half;
-  const int last_bin = grid.radial_bins - 1, side = grid.map_side();
-  // Row offset of each radial bin's coarse bin in the [sector][coarse bin] sums (a table:
-  // an integer division per pair would cost more than the two additions it feeds).
-  std::vector<int> coarse_of(std::size_t(grid.radial_bins));
-  for (int b = 0; b < grid.radial_bins; ++b) coarse_of[std::size_t(b)] = b / grid.coarse;
-  const std::size_t coarse_bins = std::size_t(grid.coarse_bins());
-  const bool with_map = !map.empty();
+  LagBinner binner(grid, sectors, sums, map);
   pairs.for_each([&](int p, int q, double dx, double dy) {
     const double lag2 = dx * dx + dy * dy;
     if (lag2 == 0) return;  // coincident centres have no direction (and no physical meaning)
-    const double w = force[p].dot(force[q]);
-    const double lag = std::sqrt(lag2), inv_lag = 1 / lag;
-    const int b = std::min(int(lag * inv_bin), last_bin);
-    sums.w[b] += w;
-    sums.w_over_lag[b] += w * inv_lag;
-    // |x| < ℓ_max ≤ map_half·h, so x/h + map_half > 0 and truncation is the floor.
-    const int bin = std::min(int(dy * inv_h + half), side - 1) * side + std::min(int(dx * inv_h + half), side - 1);
-    const int k = sectors.of(bin, dx, dy, inv_lag);
-    sums.sector[k] += w;
-    const std::size_t kc = std::size_t(k) * coarse_bins + std::size_t(coarse_of[std::size_t(b)]);
-    sums.sector_w[kc] += w;
-    sums.sector_w_over_lag[kc] += w * inv_lag;
-    if (with_map) map[bin] += w;
+    binner.add(dx, dy, lag2, force[p].dot(force[q]));
   });
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// The sector of a lag's angle, shared by the exact pair sums (force_correlation.cpp) and
-// the FFT map (fft_correlation.cpp), so that both put a lag in the same sector.
+// The sector of a lag's angle and the binning of a lag into the pair sums and the map, shared
+// by the exact pair sums (force_correlation.cpp) and the FFT sums (fft_correlation.cpp), so
+// that both put a lag in the same bins by the same arithmetic.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -70,6 +72,47 @@ class SectorIndex {
   double scale_;
   int last_cell_;
   std::vector<std::int16_t> by_bin_;
+};
+
+// Adds a weight w at a lag (dx, dy), 0 < dx² + dy² = lag2 < ℓ_max², to every sum of PairSums
+// and to the map (if it is not empty), for one frame.
+class LagBinner {
+ public:
+  LagBinner(const LagGrid& grid, const SectorIndex& sectors, PairSums& sums, std::vector<double>& map)
+      : sectors_(sectors), sums_(sums), map_(map), inv_bin_(1 / grid.bin_width), inv_h_(1 / grid.map_bin),
+        half_(grid.map_half), last_bin_(grid.radial_bins - 1), side_(grid.map_side()),
+        coarse_of_(std::size_t(grid.radial_bins)), coarse_bins_(std::size_t(grid.coarse_bins())),
+        with_map_(!map.empty()) {
+    // Each radial bin's coarse bin (a table: an integer division per lag would cost more than
+    // the two additions it feeds).
+    for (int b = 0; b < grid.radial_bins; ++b) coarse_of_[std::size_t(b)] = b / grid.coarse;
+  }
+
+  void add(double dx, double dy, double lag2, double w) {
+    const double lag = std::sqrt(lag2), inv_lag = 1 / lag;
+    const int b = std::min(int(lag * inv_bin_), last_bin_);
+    sums_.w[b] += w;
+    sums_.w_over_lag[b] += w * inv_lag;
+    // |x| < ℓ_max ≤ map_half·h, so x/h + map_half > 0 and truncation is the floor.
+    const int bin =
+        std::min(int(dy * inv_h_ + half_), side_ - 1) * side_ + std::min(int(dx * inv_h_ + half_), side_ - 1);
+    const int k = sectors_.of(bin, dx, dy, inv_lag);
+    sums_.sector[k] += w;
+    const std::size_t kc = std::size_t(k) * coarse_bins_ + std::size_t(coarse_of_[std::size_t(b)]);
+    sums_.sector_w[kc] += w;
+    sums_.sector_w_over_lag[kc] += w * inv_lag;
+    if (with_map_) map_[bin] += w;
+  }
+
+ private:
+  const SectorIndex& sectors_;
+  PairSums& sums_;
+  std::vector<double>& map_;
+  double inv_bin_, inv_h_, half_;
+  int last_bin_, side_;
+  std::vector<int> coarse_of_;
+  std::size_t coarse_bins_;
+  bool with_map_;
 };
 
 }  // namespace granflow::correlation
