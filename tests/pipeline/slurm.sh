@@ -8,8 +8,8 @@
 #  2. the documented batch script (pipelines/slurm/sweep.sbatch) finishes the sweep: it redoes
 #     the killed run and what depended on it, nothing that was already made; then every output
 #     is byte-identical to the local sweep's and `make -q` finds nothing to redo;
-#  3. a run stopped the way a time limit stops it (SIGTERM) leaves a checkpoint, and the next
-#     sweep resumes it (--resume) to the same trajectory and parameters;
+#  3. a run inside a job step stopped the way a time limit stops it (SIGTERM) leaves a
+#     checkpoint, and the next sweep resumes it (--resume) to the same trajectory and parameters;
 #  4. a rule that ignores LAUNCH fails: the programs are called through guards that refuse to
 #     run outside a Slurm job step, and a copy of the tree whose packing rule drops $(LAUNCH)
 #     fails; every recipe that calls a gf-* program starts with $(LAUNCH);
@@ -156,12 +156,15 @@ echo "slurm: the batch job made the $remade missing outputs; all $(wc -l <<<"$lo
 resumed=$killed
 rm "$resumed"
 start_with_stop "$resumed" ../cluster3.log salloc -n1 -c1 "${C[@]}" "$resumed"
-scancel --signal=TERM "$stopped_step"
-sleep 0.5  # the signal is pending in the stopped run; continued, it checkpoints and stops
-kill -CONT "$stopped_pid"
+# What slurmstepd sends a step's processes at a time limit, sent here to the run itself:
+# `scancel --signal=TERM` of the step was seen to end it as CANCELLED with srun exiting 0.
+kill -TERM "$stopped_pid"
+kill -CONT "$stopped_pid"  # the pending SIGTERM is handled: a checkpoint, then exit 1
 wait $make_pid && { tail -n 5 ../cluster3.log >&2; fail "a run stopped by SIGTERM was taken as finished"; }
 [ -s "runs/test/.$(basename "$resumed").checkpoint" ] || fail "SIGTERM left no checkpoint of $resumed"
-"${M[@]}" "BIN=$scratch/bin" -n "$resumed" | grep -q -- "--resume" || fail "make does not pass --resume"
+# (Not `make | grep -q`: grep's early exit would give make a SIGPIPE, which pipefail reports.)
+plan=$("${M[@]}" "BIN=$scratch/bin" -n "$resumed")
+grep -q -- "--resume" <<<"$plan" || fail "make does not pass --resume: $plan"
 salloc -n1 -c1 "${C[@]}" "$resumed" >../cluster3b.log 2>&1 || { tail ../cluster3b.log >&2; fail "the resumed run failed"; }
 grep -q -- "gf-shear --quiet --resume .*-o $resumed" ../cluster3b.log || fail "$resumed was not resumed"
 for group in /parameters /particles /observables /contacts; do
