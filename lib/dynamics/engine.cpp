@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "dynamics/branch_free.hpp"
 #include "dynamics/capacity.hpp"
 #include "dynamics/parallel.hpp"
@@ -98,8 +99,10 @@ void Engine::detect(bool moved) {
   alert_ = std::max(alert_min_, 2 * dt_ * vrel_);
   const double cutoff = 2 * max_radius_ + alert_;
   if (box_.lx < 2 * cutoff || (box_.periodic_y && box_.ly < 2 * cutoff))
-    throw RuntimeFailure("grains move too fast for the box: contact-search cutoff " + std::to_string(cutoff) +
-                         " exceeds half the box");
+    throw RuntimeFailure("grains move too fast for the box: contact-search cutoff " + format_number(cutoff) +
+                         " exceeds half the box (largest velocity fluctuation " + format_number(vmax) +
+                         " about the mean flow, " + format_number(vmax * dt_) + " per time step of " +
+                         format_number(dt_) + "; a smaller time step shortens the search)");
 
   if (moved) broad_.moved(vmax, rate_, dt_);
   report_.pairs_rebuilt = broad_.find(state_, box_, alert_, settings_.threads);

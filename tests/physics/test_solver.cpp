@@ -9,8 +9,10 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/random.hpp"
 #include "dynamics/engine.hpp"
 #include "helpers.hpp"
@@ -369,6 +371,24 @@ TEST(Solver, NearlyJammedStartStaysBounded) {
   }
   EXPECT_LE(unconverged, 1);
   EXPECT_GT(solves, 30) << "the cluster solves this test is about did not run";
+}
+
+// A flow too fast for the contact search ends the run with a message that names the speed and
+// the time step that made the search too long, the two things a user can act on.
+TEST(Solver, TooFastForTheBoxNamesTheSpeedAndTheStep) {
+  GrainState s = make_grains({Vec2(6, 6), Vec2(18, 18)}, {0.7, 0.7});
+  s.velocity[0] = Vec2(1000, 0);
+  try {
+    Engine engine(s, test::periodic_square(24), 0.0, {0.5, 0.0, 0.0}, {}, 0.01);
+    engine.step();
+    FAIL() << "a grain crossing 10 length units per step in a box of 24 was not refused";
+  } catch (const RuntimeFailure& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("grains move too fast for the box"), std::string::npos) << message;
+    EXPECT_NE(message.find("largest velocity fluctuation 1000 about the mean flow, 10 per time step of 0.01"),
+              std::string::npos)
+        << message;
+  }
 }
 
 // Engine memory stays within a kilobyte per grain in a dense flow (one of the performance
