@@ -152,10 +152,16 @@ echo "slurm: the batch job made the $remade missing outputs; all $(wc -l <<<"$lo
 
 # 3. A time limit: Slurm sends SIGTERM to the step; gf-shear checkpoints, and the next sweep
 #    resumes it. The resumed file has its own wall times (/run), so its trajectory and
-#    parameters, not its bytes, are compared with the local run's.
-resumed=$killed
+#    parameters, not its bytes, are compared with the same run made locally. The run is made
+#    500 times longer (SHEAR_STRAIN, 10⁵ steps, ≈ 2 s) so that the stop always falls inside
+#    its step loop: the test size's 200 steps can end before a loaded machine stops them.
+long=(SHEAR_STRAIN=100 SHEAR_FRAME_EVERY=1000)
+resumed=runs/test/shear_nu0.700_e0.00_mu0.00_r1e-02_s1.h5
+cd "$tree" && copy_tree reference3 && (cd reference3 && stamps && "${M[@]}" "BIN=$build/bin" "${long[@]}" "$resumed" \
+  >../reference3.log 2>&1) || { tail ../reference3.log >&2; fail "the local long run failed"; }
+cd cluster
 rm "$resumed"
-start_with_stop "$resumed" ../cluster3.log salloc -n1 -c1 "${C[@]}" "$resumed"
+start_with_stop "$resumed" ../cluster3.log salloc -n1 -c1 "${C[@]}" "${long[@]}" "$resumed"
 # What slurmstepd sends a step's processes at a time limit, sent here to the run itself:
 # `scancel --signal=TERM` of the step was seen to end it as CANCELLED with srun exiting 0.
 kill -TERM "$stopped_pid"
@@ -163,12 +169,14 @@ kill -CONT "$stopped_pid"  # the pending SIGTERM is handled: a checkpoint, then 
 wait $make_pid && { tail -n 5 ../cluster3.log >&2; fail "a run stopped by SIGTERM was taken as finished"; }
 [ -s "runs/test/.$(basename "$resumed").checkpoint" ] || fail "SIGTERM left no checkpoint of $resumed"
 # (Not `make | grep -q`: grep's early exit would give make a SIGPIPE, which pipefail reports.)
-plan=$("${M[@]}" "BIN=$scratch/bin" -n "$resumed")
+plan=$("${M[@]}" "BIN=$scratch/bin" "${long[@]}" -n "$resumed")
 grep -q -- "--resume" <<<"$plan" || fail "make does not pass --resume: $plan"
-salloc -n1 -c1 "${C[@]}" "$resumed" >../cluster3b.log 2>&1 || { tail ../cluster3b.log >&2; fail "the resumed run failed"; }
+salloc -n1 -c1 "${C[@]}" "${long[@]}" "$resumed" >../cluster3b.log 2>&1 ||
+  { tail ../cluster3b.log >&2; fail "the resumed run failed"; }
 grep -q -- "gf-shear --quiet --resume .*-o $resumed" ../cluster3b.log || fail "$resumed was not resumed"
 for group in /parameters /particles /observables /contacts; do
-  h5diff -q "$resumed" "$tree/local/$resumed" "$group" || fail "the resumed $resumed differs from the local run in $group"
+  h5diff -q "$resumed" "../reference3/$resumed" "$group" ||
+    fail "the resumed $resumed differs from the local run in $group"
 done
 [ -z "$(find runs -name '.*')" ] || fail "temporary files left: $(find runs -name '.*')"
 echo "slurm: a run stopped by SIGTERM resumed to the local trajectory"
