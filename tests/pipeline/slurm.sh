@@ -162,8 +162,8 @@ cd "$tree" && copy_tree reference3 && (cd reference3 && stamps && "${M[@]}" "BIN
 cd cluster
 rm "$resumed"
 start_with_stop "$resumed" ../cluster3.log salloc -n1 -c1 "${C[@]}" "${long[@]}" "$resumed"
-# What slurmstepd sends a step's processes at a time limit, sent here to the run itself:
-# `scancel --signal=TERM` of the step was seen to end it as CANCELLED with srun exiting 0.
+# What slurmstepd sends a step's processes at a time limit, sent here to the run itself, so
+# that the test knows when the run sees it (through `scancel --signal=TERM` it does not).
 kill -TERM "$stopped_pid"
 kill -CONT "$stopped_pid"  # the pending SIGTERM is handled: a checkpoint, then exit 1
 wait $make_pid && { tail -n 5 ../cluster3.log >&2; fail "a run stopped by SIGTERM was taken as finished"; }
