@@ -19,7 +19,7 @@
 #   STEPS  steps of each timed run (1 and 2 threads)      [100]
 #   FRAMES stored frames of each timed run, besides step 0 [10]
 #   TILE   K: instead of gf-pack at N, a packing of N/K² grains sheared to strain 2 and tiled
-#          K x K (bench/tile_packing.py): the start for 10^6 grains, whose start from gf-pack's
+#          K x K (gf-pack --tile): the start for 10^6 grains, whose start from gf-pack's
 #          packing solves a box-spanning cluster every step and takes hours [unset]
 #   ONLY   space-separated subset of: pack warm shear1 shear2 correlate network kinetic d2min
 #          (a later stage reuses the files an earlier run of the script left in OUT)
@@ -115,16 +115,15 @@ for n in "${SIZES[@]}"; do
   mkdir -p "$d"
   pack=$d/pack.h5 warm=$d/warm.h5 run1=$d/run_t1.h5 run2=$d/run_t2.h5
   if wants pack && [ -n "$TILE" ]; then
-    # N/TILE² grains packed and sheared to strain 2 (offset a whole number of box widths),
-    # tiled TILE x TILE into the packing of N grains (bench/tile_packing.py).
+    # N/TILE² grains packed and sheared to strain 2, the last frame tiled TILE x TILE into
+    # the packing of N grains (gf-pack --tile).
     small=$((n / (TILE * TILE)))
     (( small * TILE * TILE == n )) || { echo "million.sh: N=$n is not TILE²=$((TILE * TILE)) times a whole number" >&2; exit 2; }
     rm -f "$d/tile_pack.h5" "$d/tile_run.h5" "$pack"
     run gf-pack "$small" "$d/tile_pack.h5" 1 "$BIN/gf-pack" -n "$small" --packing-fraction "$NU" -o "$d/tile_pack.h5" || continue
     run "gf-shear to strain 2" "$small" "$d/tile_run.h5" 2 "$BIN/gf-shear" -i "$d/tile_pack.h5" -o "$d/tile_run.h5" \
       --strain 2 --frame-every 2000 --threads 1 || continue
-    run "tile_packing.py ${TILE}x${TILE}" "$n" "$pack" 1 /usr/bin/python3 "$(dirname "$0")/tile_packing.py" \
-      "$d/tile_pack.h5" "$d/tile_run.h5" "$TILE" "$pack" || continue
+    run "gf-pack --tile $TILE" "$n" "$pack" 1 "$BIN/gf-pack" -i "$d/tile_run.h5" --tile "$TILE" -o "$pack" || continue
   elif wants pack; then
     rm -f "$pack"
     run gf-pack "$n" "$pack" 1 "$BIN/gf-pack" -n "$n" --packing-fraction "$NU" -o "$pack" || continue

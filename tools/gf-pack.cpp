@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
                     "while soft overlaps are relaxed away (FIRE), or, with --incline, a base row of\n"
                     "touching fixed grains along x at y = 0 with mobile grains placed dilute above it.\n"
                     "With --input, the grains of an existing packing (or of a trajectory frame) are\n"
-                    "brought to --packing-fraction instead: same radii, box and positions scaled, relaxed.\n"
+                    "brought to --packing-fraction instead: same radii, box and positions scaled, relaxed;\n"
+                    "with --tile K as well, they are copied K × K times into a box K times wider and\n"
+                    "taller, unchanged (a start for large N: a sheared frame of a small run, tiled).\n"
                     "The output is a one-frame H5MD trajectory that gf-shear / gf-incline read.");
     cli.text_option("input", 'i', "FILE", "repack the grains of this packing or trajectory (see --frame)");
     cli.integer_option("frame", 0, "K", "with --input: frame to start from (negative counts from the end)", "-1");
@@ -39,6 +41,11 @@ int main(int argc, char** argv) {
                        "1");
     cli.real_option("tolerance", 0, "TOL", "relax until the largest overlap is below TOL·σ (not with --incline)",
                     "1e-9");
+    cli.integer_option("tile", 0, "K",
+                       "with --input: K × K copies of its grains, as its periodic images lie (Lees–Edwards\n"
+                       "offset included), at its packing fraction, without relaxing: the start of a\n"
+                       "large run at a cost linear in N (docs/programs/gf-pack.md)",
+                       "1");
     cli.flag("incline", 0, "make an incline start instead of a biperiodic packing");
     cli.real_option("width", 0, "W", "with --incline: base length in mean diameters", "40");
     cli.real_option("height", 0, "H",
@@ -48,6 +55,9 @@ int main(int argc, char** argv) {
     // packing fraction.
     for (const char* option : {"grains", "seed", "polydispersity", "mean-diameter"}) cli.conflicts(option, "input");
     cli.needs("frame", "input");
+    cli.needs("tile", "input");
+    cli.conflicts("packing-fraction", "tile");
+    cli.conflicts("tolerance", "tile");
     cli.needs("width", "incline");
     cli.needs("height", "incline");
     cli.conflicts("packing-fraction", "incline");
@@ -88,6 +98,7 @@ int main(int argc, char** argv) {
       p.overlap_tolerance = cli.real("tolerance");
       require_positive("tolerance", p.overlap_tolerance);
       validate(p);
+      if (!cli.given("tile")) cli.not_applicable("tile", "");  // a repack: nothing tiled, nothing recorded
       io::Parameters parameters = io::provenance(cli);
       Packing start;
       if (cli.given("input")) {
@@ -102,8 +113,11 @@ int main(int argc, char** argv) {
         std::snprintf(status, sizeof status, "max overlap %.1e σ", overlap);
         bar.update(done, status);
       };
-      packing = cli.given("input") ? repack(start, p.packing_fraction, p.overlap_tolerance, report)
-                                   : make_biperiodic_packing(p, report);
+      if (cli.given("tile"))
+        packing = tile(start, cli.integer("tile"));
+      else
+        packing = cli.given("input") ? repack(start, p.packing_fraction, p.overlap_tolerance, report)
+                                     : make_biperiodic_packing(p, report);
       bar.finish();
       parameters.set("grains", std::int64_t(packing.radius.size()));
       write_packing(out.temp_path(), packing, parameters);

@@ -74,6 +74,17 @@ Packing make_biperiodic_packing(const PackingParams& p,
 Packing repack(const Packing& start, double packing_fraction, double overlap_tolerance,
                const std::function<void(double fraction_done, double max_overlap)>& progress = {});
 
+// K × K copies of a biperiodic packing or sheared frame in a box K times wider and taller,
+// at the same packing fraction: copy (a, b) is the cell moved by a·(Lx, 0) + b·(δ, Ly), the
+// cell's own periodic image, so copies meet as the cell meets its images and every pair of
+// grains within reach has the same separation as in the cell; the large box's Lees–Edwards
+// offset is K·δ (wrapped). Grains are numbered band by band, as make_biperiodic_packing()
+// numbers them; max_overlap is the cell's. A start for large N at a cost linear in N: a
+// gf-pack packing of N grains touches everywhere, and gf-shear's first steps from it solve
+// one cluster spanning the box, a cost that grows as N^1.5 or faster. UsageError for K < 1,
+// a box open in y, fixed grains, or more than 2³¹ − 1 grains.
+Packing tile(const Packing& cell, long long copies);
+
 // Incline start: a row of touching fixed grains centred on y = 0 that closes on
 // itself through the periodic x boundary, and mobile grains on a jittered lattice
 // above it, none overlapping. Base grains come first. Box open in y.

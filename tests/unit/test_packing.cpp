@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "core/error.hpp"
@@ -320,4 +321,101 @@ TEST(PackingRepack, SameGrainsAtNewPackingFraction) {
   Packing open = start;
   open.box.periodic_y = false;
   EXPECT_THROW(repack(open, 0.8, 1e-9), UsageError);
+}
+
+namespace {
+
+// A cell of n grains at random positions in a sheared box (offset δ), overlaps allowed:
+// tile() must copy whatever it is given.
+Packing random_cell(std::size_t n, double offset_fraction, std::uint64_t seed) {
+  Rng rng(seed);
+  Packing cell;
+  cell.box = Box{9.0, 7.5, true, offset_fraction * 9.0};
+  cell.radius = draw_radii(std::int64_t(n), 1.4, 0.26, rng);
+  for (std::size_t i = 0; i < n; ++i) cell.position.emplace_back(rng.uniform(0, 9.0), rng.uniform(0, 7.5));
+  cell.fixed.assign(n, 0);
+  return cell;
+}
+
+// Every separation shorter than `reach` over all pairs at their minimum image, sorted: by
+// brute force, in the packing's own box.
+std::vector<double> separations(const Packing& p, double reach) {
+  std::vector<double> d;
+  for (std::size_t i = 0; i < p.position.size(); ++i)
+    for (std::size_t j = i + 1; j < p.position.size(); ++j) {
+      const double r = p.box.minimum_image(p.position[i] - p.position[j]).norm();
+      if (r < reach) d.push_back(r);
+    }
+  std::sort(d.begin(), d.end());
+  return d;
+}
+
+}  // namespace
+
+TEST(PackingTile, CopiesMeetAsTheCellMeetsItsImages) {
+  // In a sheared cell (δ ≠ 0) the copies must be placed along the cell's own images,
+  // b·(δ, Ly) up, and the large box's offset must be K·δ: then every pair within reach
+  // has the separation it has in the cell, K² times over. A tiling that ignored δ (copies
+  // at b·(0, Ly)), or kept δ for the large box, breaks the pairs across tile rows.
+  for (double shear : {0.0, 0.37, 0.91}) {
+    const Packing cell = random_cell(40, shear, 7);
+    const double reach = 3.0;  // below half the cell's shorter side: minimum images are exact
+    const std::vector<double> once = separations(cell, reach);
+    ASSERT_GT(once.size(), 100u);
+    for (int k : {2, 3}) {
+      const Packing big = tile(cell, k);
+      ASSERT_EQ(big.position.size(), cell.position.size() * std::size_t(k * k));
+      EXPECT_DOUBLE_EQ(big.box.lx, k * cell.box.lx);
+      EXPECT_DOUBLE_EQ(big.box.ly, k * cell.box.ly);
+      EXPECT_NEAR(big.box.offset, std::fmod(k * cell.box.offset, big.box.lx), 1e-12) << shear;
+      const std::vector<double> all = separations(big, reach);
+      ASSERT_EQ(all.size(), once.size() * std::size_t(k * k)) << "shear " << shear << ", K = " << k;
+      for (std::size_t q = 0; q < all.size(); ++q) ASSERT_NEAR(all[q], once[q / std::size_t(k * k)], 1e-9) << q;
+      EXPECT_NEAR(big.packing_fraction, area_of(cell.radius) / cell.box.area(), 1e-12);
+      EXPECT_NEAR(big.max_overlap, std::max(0.0, brute_max_overlap(cell)), 1e-9);
+    }
+  }
+}
+
+TEST(PackingTile, OneCopyIsTheCellRenumbered) {
+  const Packing cell = random_cell(50, 0.25, 3);
+  const Packing same = tile(cell, 1);
+  EXPECT_EQ(same.box.offset, cell.box.offset);
+  std::vector<std::pair<double, double>> a, b;
+  for (std::size_t i = 0; i < cell.position.size(); ++i) {
+    a.emplace_back(cell.position[i].x(), cell.radius[i]);
+    b.emplace_back(same.position[i].x(), same.radius[i]);
+  }
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+}
+
+TEST(PackingTile, GrainsAreNumberedBandByBandInsideTheLargeBox) {
+  // Bands one mean diameter σ high, by x within a band: y falls by less than σ from one
+  // grain to the next (within a band), or rises (to the next band).
+  const Packing cell = random_cell(60, 0.5, 11);
+  const Packing big = tile(cell, 4);
+  const double sigma = 2 * std::accumulate(cell.radius.begin(), cell.radius.end(), 0.0) / double(cell.radius.size());
+  int descents = 0;
+  for (std::size_t q = 0; q < big.position.size(); ++q) {
+    ASSERT_GE(big.position[q].x(), 0.0);
+    ASSERT_LT(big.position[q].x(), big.box.lx);
+    ASSERT_GE(big.position[q].y(), 0.0);
+    ASSERT_LT(big.position[q].y(), big.box.ly);
+    if (q > 0) descents += big.position[q].y() <= big.position[q - 1].y() - sigma;
+  }
+  EXPECT_EQ(descents, 0);
+}
+
+TEST(PackingTile, RefusesWhatCannotTile) {
+  const Packing cell = random_cell(20, 0.0, 1);
+  expect_usage_error([&] { tile(cell, 0); }, "--tile");
+  Packing open = cell;
+  open.box.periodic_y = false;
+  expect_usage_error([&] { tile(open, 2); }, "--input");
+  Packing pinned = cell;
+  pinned.fixed[3] = 1;
+  expect_usage_error([&] { tile(pinned, 2); }, "--input");
+  expect_usage_error([&] { tile(cell, 20000); }, "--tile");  // 8·10⁹ grains
 }
