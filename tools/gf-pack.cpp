@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
                     "with --tile K as well, they are copied K × K times into a box K times wider and\n"
                     "taller, unchanged (a start for large N: a sheared frame of a small run, tiled).\n"
                     "The output is a one-frame H5MD trajectory that gf-shear / gf-incline read.");
-    cli.text_option("input", 'i', "FILE", "repack the grains of this packing or trajectory (see --frame)");
+    cli.text_option("input", 'i', "FILE",
+                    "repack (or with --tile, tile) the grains of this packing or trajectory (see --frame)");
     cli.integer_option("frame", 0, "K", "with --input: frame to start from (negative counts from the end)", "-1");
     cli.text_option("output", 'o', "FILE", "packing file to write (HDF5, H5MD layout)");
     cli.integer_option("grains", 'n', "N",
