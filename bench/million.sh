@@ -19,8 +19,8 @@
 #   STEPS  steps of each timed run (1 and 2 threads)      [100]
 #   FRAMES stored frames of each timed run, besides step 0 [10]
 #   TILE   K: instead of gf-pack at N, a packing of N/K² grains sheared to strain 2 and tiled
-#          K x K (gf-pack --tile): the start for 10^6 grains, whose start from gf-pack's
-#          packing solves a box-spanning cluster every step and takes hours [unset]
+#          K x K (gf-pack --tile): the start for 10^6 grains, whose first steps from gf-pack's
+#          packing solve a box-spanning cluster at a cost of about N^1.5 (5 min of CPU) [unset]
 #   ONLY   space-separated subset of: pack warm shear1 shear2 correlate network kinetic d2min
 #          (a later stage reuses the files an earlier run of the script left in OUT)
 #
@@ -29,7 +29,7 @@
 # (the first steps are the hardest). 600 steps (strain 0.6) are not yet the steady flow of
 # bench/bench_engine (after strain 2), so the per-step cost measured here is an upper bound
 # of the steady one; WARM=2000 at 10^5 measures how far above it is. At 10^6 the start from
-# a packing takes hours (see TILE). The timed runs' per-step cost is the stepping
+# a packing costs minutes before the flow (see TILE). The timed runs' per-step cost is the stepping
 # loop's wall time from gf-shear's summary line on stderr (reading the input and writing the
 # last frame excluded, frame writing inside the loop included) divided by STEPS and N.
 set -euo pipefail
