@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/signals.hpp"
 #include "neighbours/cell_list.hpp"
+#include "packing/input_rules.hpp"
 #include "packing/packing.hpp"
 
 namespace granflow {
@@ -257,13 +258,8 @@ Packing make_biperiodic_packing(const PackingParams& p,
     const double x = rng.uniform(0, side);
     r = Vec2(x, rng.uniform(0, side));
   }
-  // Grains numbered band by band (one diameter high, by x within a band): the engine reads
-  // its per-grain arrays in grain order, and neighbours in space are then near in memory
-  // (N = 10⁵: a few % per sweep). The radii are drawn independently, so nothing is biased.
-  std::sort(start.begin(), start.end(), [&](const Vec2& a, const Vec2& b) {
-    const int ra = int(a.y() / sigma), rb = int(b.y() / sigma);
-    return ra != rb ? ra < rb : a.x() < b.x();
-  });
+  // Grains numbered band by band; the radii are drawn independently, so nothing is biased.
+  std::sort(start.begin(), start.end(), [&](const Vec2& a, const Vec2& b) { return numbered_before(a, b, sigma); });
   SoftDisks disks(out.box, out.radius, std::move(start), skin);
   out.iterations = grow_and_relax(disks, std::min(start_fraction, p.packing_fraction), p.packing_fraction, sigma,
                                   p.overlap_tolerance, progress);
@@ -275,9 +271,7 @@ Packing repack(const Packing& start, double packing_fraction, double overlap_tol
                const std::function<void(double fraction_done, double max_overlap)>& progress) {
   require_in_range("packing-fraction", packing_fraction, 0.0, 0.91, true, true);
   require_positive("tolerance", overlap_tolerance);
-  if (!start.box.periodic_y) throw UsageError("--input: not a biperiodic packing (its box is open in y)");
-  for (auto f : start.fixed)
-    if (f) throw UsageError("--input: has fixed grains; only biperiodic packings can be repacked");
+  require_biperiodic_input(start, "repacked");
   const auto t0 = std::chrono::steady_clock::now();
   const double area = disk_area(start.radius);
   const double sigma = 2 * std::accumulate(start.radius.begin(), start.radius.end(), 0.0) / double(start.radius.size());

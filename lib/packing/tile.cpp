@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "packing/input_rules.hpp"
 #include "packing/packing.hpp"
 
 namespace granflow {
@@ -13,9 +14,7 @@ namespace granflow {
 Packing tile(const Packing& cell, long long copies) {
   const auto t0 = std::chrono::steady_clock::now();
   if (copies < 1) throw UsageError("--tile: " + std::to_string(copies) + " must be >= 1");
-  if (!cell.box.periodic_y) throw UsageError("--input: not biperiodic (its box is open in y); only a biperiodic frame tiles");
-  for (auto f : cell.fixed)
-    if (f) throw UsageError("--input: has fixed grains; only a biperiodic frame tiles");
+  require_biperiodic_input(cell, "tiled");
   const std::size_t n = cell.radius.size();
   if (n == 0) throw UsageError("--input: has no grains");
   const long long k = copies;
@@ -47,17 +46,13 @@ Packing tile(const Packing& cell, long long copies) {
         radius[q] = cell.radius[i];
       }
 
-  // Numbered band by band (one mean diameter high, by x within a band) as gf-pack numbers its
-  // packings: the engine then finds neighbours in space near in memory.
+  // Numbered band by band, as gf-pack numbers its packings (copies never tie: they lie whole
+  // box widths apart).
   const double sigma = 2 * std::accumulate(cell.radius.begin(), cell.radius.end(), 0.0) / double(n);
   std::vector<std::size_t> order(total);
   std::iota(order.begin(), order.end(), std::size_t(0));
-  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
-    const long long bi = (long long)(position[i].y() / sigma), bj = (long long)(position[j].y() / sigma);
-    if (bi != bj) return bi < bj;
-    if (position[i].x() != position[j].x()) return position[i].x() < position[j].x();
-    return i < j;
-  });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t i, std::size_t j) { return numbered_before(position[i], position[j], sigma); });
   out.position.resize(total);
   out.radius.resize(total);
   for (std::size_t p = 0; p < total; ++p) {
