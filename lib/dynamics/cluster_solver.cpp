@@ -25,6 +25,14 @@ namespace {
 // undo none there.
 constexpr double kClusterSolveGrowth = 100;
 
+// A frictional cluster with at least this many rows left after peeling is ordered by minimum
+// degree at once, without first trying the sweep order: where the sweep order passes the fill
+// test it still makes more arithmetic than the minimum-degree order (its fill lies in wide
+// fronts), and where it fails the attempt is wasted. Measured (docs/performance.md): ν = 0.78,
+// N = 10³, 4.1 → 2.9 s per unit strain for 25–200 here, the same sweeps and passes; below 25,
+// ordering the small clusters costs more than it saves.
+constexpr int kOrderedLoops = 100;
+
 // Clusters of at least this many active rows are factorised by all threads together.
 constexpr int kSharedClusterRows = 2000;
 
@@ -203,7 +211,9 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
 
   // Pivots below 1e-9 of their diagonal: a redundant contact (pinned). If the loops in sweep
   // order fill the factor in beyond 4 nonzeros per matrix entry, they are reordered by
-  // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper.
+  // approximate minimum degree; beyond 8 even then, Gauss–Seidel alone is cheaper. Frictional
+  // clusters with kOrderedLoops loop rows or more are reordered at once (frictionless ones
+  // keep the sweep order where it passes, and with it their trajectories bit for bit).
   auto factor = [&](std::size_t fill) {
     if (tangents_) {
       assemble_frictional_cluster(w);
@@ -212,7 +222,8 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
     assemble_cluster(w, threads);
     return w.ldl.factor(m, w.start, w.row, w.value, 1e-9, fill * w.row.size() + 64, threads);
   };
-  bool factored = factor(4);
+  const bool ordered_at_once = tangents_ && m - peeled >= kOrderedLoops;
+  bool factored = !ordered_at_once && factor(4);
   if (!factored && peeled < m) {
     order_loops(w, peeled);
     factored = factor(8);
