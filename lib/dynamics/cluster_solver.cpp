@@ -55,7 +55,6 @@ int ClusterSolver::solve(ContactRows& contacts, const Tiling& tiling, const std:
   mu_ = mu;
   upsilon_ = upsilon;
   tangents_ = mu > 0 ? contacts.tangents().data() : nullptr;
-  if (tangents_ && rank_.size() != unknown_.size()) rank_.assign(unknown_.size(), -1);
   const int n = int(contacts.bodies().size());
   rows_ = contacts.rows().data();
   bodies_ = contacts.bodies().data();
@@ -225,12 +224,10 @@ bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
   };
   const bool ordered_at_once = tangents_ && m - peeled >= kOrderedLoops;
   bool factored = !ordered_at_once && factor(4);
-  if (!factored && ordered_at_once && order_loops_as_before(w, peeled)) factored = factor(8);
   if (!factored && peeled < m) {
     order_loops(w, peeled);
     factored = factor(8);
   }
-  if (factored && ordered_at_once) remember_order(w, peeled);
   bool accepted = false;
   if (factored) {
     const bool self_stress = tangents_ && w.ldl.pinned() > 0;
@@ -681,28 +678,6 @@ void ClusterSolver::order_loops(Scratch& w, int first) {
   }
 }
 
-// The passes of a step solve nearly the same clusters over and over, a few rows changing state
-// or joining: the loops (from `first` on) are put in the order the last pass gave them, rows it
-// did not order after the others (in sweep order), instead of computing a minimum-degree order
-// again. False, with nothing changed, if more than a tenth of them are new.
-bool ClusterSolver::order_loops_as_before(Scratch& w, int first) {
-  const int m = int(w.order.size());
-  int unseen = 0;
-  for (int u = first; u < m; ++u) unseen += rank_[w.order[u]] < 0;
-  if (10 * unseen > m - first) return false;
-  auto key = [&](int c) { return rank_[c] < 0 ? std::numeric_limits<std::int64_t>::max() : rank_[c]; };
-  std::stable_sort(w.order.begin() + first, w.order.end(), [&](int a, int b) { return key(a) < key(b); });
-  for (int u = first; u < m; ++u) unknown_[w.order[u]] = u;
-  return true;
-}
-
-// Records the order of the loops (from `first` on) for order_loops_as_before(): the cluster's
-// first loop row, unique to it in this pass, then the place.
-void ClusterSolver::remember_order(const Scratch& w, int first) {
-  const std::int64_t cluster = std::int64_t(w.order[first]) << 32;
-  for (int u = first; u < int(w.order.size()); ++u) rank_[w.order[u]] = cluster | (u - first);
-}
-
 std::size_t ClusterSolver::bytes() const {
   std::size_t scratch = heap_bytes(scratch_);
   for (const Scratch& w : scratch_)
@@ -712,8 +687,7 @@ std::size_t ClusterSolver::bytes() const {
                heap_bytes(w.facet) + heap_bytes(w.stepped) + heap_bytes(w.pinned) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
-         heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_) +
-         heap_bytes(rank_);
+         heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);
 }
 
 }  // namespace granflow

@@ -32,10 +32,7 @@ namespace granflow {
 class ClusterSolver {
  public:
   // Before the passes of a step over `rows` rows.
-  void reset(std::size_t rows) {
-    unknown_.assign(rows, -1);
-    rank_.clear();
-  }
+  void reset(std::size_t rows) { unknown_.assign(rows, -1); }
   // One pass: solves each cluster of the bearing rows of the working set `work` (row_flags:
   // kBearing) that holds a hot row (kHot), updating the impulses, the bodies' velocities and
   // the bearing flags, and flags the tiles of the rows it solved in moved and touched.
@@ -68,8 +65,6 @@ class ClusterSolver {
   bool apply_frictional_solution(Scratch& w, int threads);
   void step_along_self_stress(Scratch& w);
   void order_loops(Scratch& w, int first);
-  bool order_loops_as_before(Scratch& w, int first);
-  void remember_order(const Scratch& w, int first);
   double cluster_residual(const Scratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
   void apply_impulse(const Row& r, double dpn, double dpt);
@@ -94,9 +89,6 @@ class ClusterSolver {
   std::vector<std::size_t> chunk_start_;  // first row of each chunk of the working set
   std::vector<int> cluster_, cluster_id_, cluster_start_, cluster_rows_, body_start_, body_rows_;
   std::vector<int> degree_, unknown_;
-  // Frictional clusters: each row's place in the minimum-degree order of the last pass of the
-  // step that ordered its cluster (−1 if none), see order_loops_as_before().
-  std::vector<std::int64_t> rank_;
   std::vector<Scratch> scratch_;
 };
 
