@@ -29,8 +29,9 @@ constexpr double kClusterSolveGrowth = 100;
 // degree at once, without first trying the sweep order: where the sweep order passes the fill
 // test it still makes more arithmetic than the minimum-degree order (its fill lies in wide
 // fronts), and where it fails the attempt is wasted. Measured (docs/performance.md): ν = 0.78,
-// N = 10³, 4.1 → 2.9 s per unit strain for 25–200 here, the same sweeps and passes; below 25,
-// ordering the small clusters costs more than it saves.
+// N = 10³, 4.1 → 2.9 s per unit strain with this threshold anywhere from 25 to 400, the same
+// sweeps and passes; at 25 and 50, ν = 0.76 ran slower than before (small clusters cost more
+// to order than they save), at 200, N = 10⁴ gained less than at 100.
 constexpr int kOrderedLoops = 100;
 
 // Clusters of at least this many active rows are factorised by all threads together.
