@@ -224,6 +224,10 @@ TEST(Solver, FrictionalStepMatchesPlainGaussSeidel) {
     std::cout << "Solver: " << r.contacts << " contacts, " << r.iterations << " sweeps, " << r.cluster_solves
               << " cluster solves, largest cluster " << r.largest_cluster << " rows\n";
     EXPECT_LT(largest_velocity_difference(engine.state(), q), 1e-9);
+    // A cluster whose solve fails is left to Gauss–Seidel, which gets the same answer in far
+    // more sweeps: 10, 27 and 25 here; 2 844 and 2 455 at ν = 0.8 with every solve in
+    // minimum-degree order refused.
+    EXPECT_LT(r.iterations, 60);
   }
 }
 
