@@ -9,7 +9,9 @@
 //   build-*/bench/bench_friction --benchmark_filter=FrictionSpeedup     the two solvers alternating
 //
 // BM_Friction/N/ν·1000/solver: solver 0 = Gauss–Seidel only (SolverSettings::cluster_solves
-// = false), 1 = the default settings (cluster_solves = true). Every (N, ν) is first sheared
+// = false, region_solve_after = 0), 1 = the default settings (cluster_solves = true, region
+// solves after 1 000 sweeps), 2 = the default without the region solves (region_solve_after
+// = 0, the solver before them). Every (N, ν) is first sheared
 // from gf-pack's packing at rest (the affine start) with the default settings for
 // warm_steps(N, ν) steps, once (cached); each case then times timed_steps(N, ν) steps of a
 // fresh engine that continues from that state (grain state, box with its Lees–Edwards
@@ -18,6 +20,7 @@
 // Every case runs once (a run is deterministic). Counters, per step unless said:
 //   s/strain     CPU time of the process per unit strain (one thread)
 //   sweeps       mean Gauss–Seidel sweeps          clusters   mean StepReport::cluster_solves
+//   regions      mean StepReport::region_solves
 //   largest      largest cluster (active rows) solved exactly, over the timed steps
 //   contacts     mean contacts (P_n > 0)           updates/s  local contact solves per second
 //   unconverged  timed steps that reached max_iterations (completed anyway, counted)
@@ -64,9 +67,11 @@ double cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-SolverSettings settings(bool cluster_solves) {
+// Solver 0, 1 or 2 (see the head of the file).
+SolverSettings settings(int solver) {
   SolverSettings s;  // tolerance 10⁻¹⁰, one thread
-  s.cluster_solves = cluster_solves;
+  s.cluster_solves = solver != 0;
+  if (solver != 1) s.region_solve_after = 0;
   return s;
 }
 
@@ -83,7 +88,7 @@ const Engine& warmed(std::int64_t grains, double nu) {
     const Packing packing = make_biperiodic_packing(p);
     GrainState state = make_grains(packing.position, packing.radius);
     add_affine_flow(state, packing.box, kRate);
-    Engine engine(std::move(state), packing.box, kRate, kMaterial, settings(true), kStrainStep / kRate);
+    Engine engine(std::move(state), packing.box, kRate, kMaterial, settings(1), kStrainStep / kRate);
     for (std::int64_t k = warm_steps(grains, nu); k > 0; --k) engine.step();
     it = cache.emplace(std::make_pair(grains, nu), std::move(engine)).first;
   }
@@ -91,14 +96,14 @@ const Engine& warmed(std::int64_t grains, double nu) {
 }
 
 // A fresh engine with the given solver that continues `from` exactly as a resumed run would.
-Engine continue_with(const Engine& from, bool cluster_solves) {
-  Engine engine(from.state(), from.box(), from.rate(), from.material(), settings(cluster_solves), from.dt());
+Engine continue_with(const Engine& from, int solver) {
+  Engine engine(from.state(), from.box(), from.rate(), from.material(), settings(solver), from.dt());
   engine.restore(from.step_count(), from.memory());
   return engine;
 }
 
 struct Work {
-  double seconds = 0, sweeps = 0, clusters = 0, contacts = 0, updates = 0, unconverged = 0;
+  double seconds = 0, sweeps = 0, clusters = 0, regions = 0, contacts = 0, updates = 0, unconverged = 0;
   int largest = 0;
 };
 
@@ -109,6 +114,7 @@ Work run(Engine& engine, std::int64_t steps) {
     const StepReport& r = engine.step();
     w.sweeps += r.iterations;
     w.clusters += r.cluster_solves;
+    w.regions += r.region_solves;
     w.contacts += r.contacts;
     w.updates += double(r.contact_updates);
     w.unconverged += !r.converged;
@@ -121,18 +127,19 @@ Work run(Engine& engine, std::int64_t steps) {
 void BM_Friction(benchmark::State& state) {
   const std::int64_t grains = state.range(0);
   const double nu = double(state.range(1)) / 1000.0;
-  const bool cluster_solves = state.range(2) != 0;
+  const int solver = int(state.range(2));
   const std::int64_t steps = timed_steps(grains, nu);
   const Engine& start = warmed(grains, nu);
   Work w;
   for (auto _ : state) {
-    Engine engine = continue_with(start, cluster_solves);
+    Engine engine = continue_with(start, solver);
     w = run(engine, steps);
   }
   const double n = double(steps);
   state.counters["s/strain"] = w.seconds / (n * kStrainStep);
   state.counters["sweeps"] = w.sweeps / n;
   state.counters["clusters"] = w.clusters / n;
+  state.counters["regions"] = w.regions / n;
   state.counters["largest"] = w.largest;
   state.counters["contacts"] = w.contacts / n;
   state.counters["updates/s"] = w.updates / w.seconds;
@@ -150,7 +157,7 @@ void BM_FrictionSpeedup(benchmark::State& state) {
   bool same = true;
   for (auto _ : state)
     for (int rep = 0; rep < kSpeedupReps; ++rep) {
-      Engine engine[2] = {continue_with(start, false), continue_with(start, true)};
+      Engine engine[2] = {continue_with(start, 0), continue_with(start, 1)};
       for (int solver : {0, 1}) {
         last[solver] = run(engine[solver], steps);
         best[solver] = std::min(best[solver], last[solver].seconds);
@@ -173,7 +180,7 @@ void BM_FrictionSpeedup(benchmark::State& state) {
 void friction_grid(benchmark::internal::Benchmark* b) {
   for (std::int64_t grains : {1000, 10000})
     for (std::int64_t nu : {700, 760, 780, 800, 820})
-      for (std::int64_t solver : {0, 1}) b->Args({grains, nu, solver});
+      for (std::int64_t solver : {0, 1, 2}) b->Args({grains, nu, solver});
 }
 
 }  // namespace

@@ -53,11 +53,15 @@
 //    LDLᵀ without friction, LDU with it); Gauss–Seidel then corrects the state if it was
 //    wrong. This replaces the slow linear tail of Gauss–Seidel on large clusters. Small
 //    clusters go to the threads whole; large ones (the percolating one) are factorised by
-//    all threads together, by subtrees of the elimination tree, with the same result.
+//    all threads together, by subtrees of the elimination tree, with the same result;
+//  - with friction, a step still unconverged after SolverSettings::region_solve_after sweeps
+//    solves the regions around its largest corrections exactly, states included (a linear
+//    complementarity problem, by Lemke's method; see RegionSolver).
 //
 // The parts of a step, each in its own file: BroadPhase (candidates), Tiling (internal order,
 // strips and tiles), ContactRows (rows, warm start, records), contact_law.hpp (the local
-// laws), GaussSeidel (working set, sweeps, checks), ClusterSolver (exact cluster solves) and
+// laws), GaussSeidel (working set, sweeps, checks), ClusterSolver (exact cluster solves),
+// RegionSolver (exact solves of stalled regions, with friction) and
 // parallel.hpp (the OpenMP helpers); Engine owns them and runs step() through them.
 //
 // The engine assumes disks with I = mR²/2 (W_tt = 3·W_nn) and a box at least two
@@ -72,6 +76,7 @@
 #include "dynamics/cluster_solver.hpp"
 #include "dynamics/contact_rows.hpp"
 #include "dynamics/gauss_seidel.hpp"
+#include "dynamics/region_solver.hpp"
 #include "dynamics/grains.hpp"
 #include "dynamics/tiling.hpp"
 #include "geometry/box.hpp"
@@ -92,6 +97,11 @@ struct SolverSettings {
   // Exact solves of contact clusters (see above); false: Gauss–Seidel only.
   // Both reach the same converged solution.
   bool cluster_solves = true;
+  // With friction: a step still unconverged after this many sweeps solves the regions around
+  // the rows still corrected exactly (see RegionSolver), then again every 500 sweeps over a
+  // wider region; 0: never. Both reach a solution within the tolerance; only the cost and,
+  // where the solution is not unique, the trajectory depend on it.
+  int region_solve_after = 1000;
   // Residual checks over every row every time, instead of only where something changed
   // since the last one: the same trajectory, bit for bit (a reference for the tests).
   bool full_checks = false;
@@ -110,6 +120,7 @@ struct StepReport {
   std::int64_t contact_updates = 0;  // local contact solves: working-set sweeps plus residual checks
   int cluster_solves = 0;            // passes of exact solves of frictionless clusters
   int largest_cluster = 0;           // active rows of the largest cluster solved exactly
+  int region_solves = 0;             // exact solves of stalled regions (with friction)
   bool pairs_rebuilt = false;        // the pair list was rebuilt for the next step
   double max_overlap = 0;            // max(0, −g) over all pairs after the position update
   // Collisions: contacts born in this step (P_n > 0 now, none the step before: age 1).
@@ -192,6 +203,7 @@ class Engine {
 
   GaussSeidel gauss_seidel_;
   ClusterSolver clusters_;
+  RegionSolver regions_;
 
   StepReport report_;
 };

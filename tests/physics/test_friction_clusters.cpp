@@ -171,7 +171,7 @@ struct Tally {
   std::map<int, int> by_contacts;                           // clusters by candidate pairs
   int off = 0, stick = 0, slide_plus = 0, slide_minus = 0;  // contacts of the engine's solutions
   std::int64_t systems = 0;
-  std::map<bool, std::int64_t> sweeps, max_sweeps;  // per cluster_solves setting
+  std::map<int, std::int64_t> sweeps, max_sweeps, region_solves;  // per Solver
   double worst_law = 0, worst_impulse = 0, worst_velocity = 0;
 };
 
@@ -184,13 +184,21 @@ constexpr double kLawBound = 1e-9;
 // impulse (velocity): the same few Υ, times the conditioning of the small systems.
 constexpr double kMatchBound = 1e-9;
 
+// The solvers compared: Gauss–Seidel alone, with the exact cluster solves (the default), and
+// with a region solve after the first sweep (RegionSolver, over the whole of these clusters).
+enum Solver { kGaussSeidel, kClusterSolves, kRegionSolves };
+const char* solver_name(int s) {
+  return s == kGaussSeidel ? "Gauss-Seidel only" : s == kClusterSolves ? "cluster solves" : "region solve";
+}
+
 // One step's settings for the comparisons: a tight tolerance, so that they see round-off only.
-SolverSettings tight_settings(bool cluster_solves, double alert) {
+SolverSettings tight_settings(int solver, double alert) {
   SolverSettings settings;
   settings.tolerance = 1e-14;
   settings.alert_distance = alert;
   settings.max_iterations = 1000000;
-  settings.cluster_solves = cluster_solves;
+  settings.cluster_solves = solver == kClusterSolves;
+  settings.region_solve_after = solver == kRegionSolves ? 1 : 0;
   return settings;
 }
 
@@ -223,15 +231,19 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
   tally.fixed += cluster.state.fixed[0];
   tally.systems += ref.systems;
   ASSERT_FALSE(ref.solutions.empty()) << "the enumeration found no solution";
-  for (const bool clusters : {false, true}) {
-    SCOPED_TRACE(clusters ? "cluster_solves" : "Gauss-Seidel only");
-    Engine engine(cluster.state, box, 0.0, mat, tight_settings(clusters, alert), dt);
+  for (const int solver : {kGaussSeidel, kClusterSolves, kRegionSolves}) {
+    SCOPED_TRACE(solver_name(solver));
+    Engine engine(cluster.state, box, 0.0, mat, tight_settings(solver, alert), dt);
     const StepReport& report = engine.step();
     ASSERT_TRUE(report.converged);
     ASSERT_EQ(engine.alert_distance(), alert);
     ASSERT_EQ(report.candidates, c);
-    tally.sweeps[clusters] += report.iterations;
-    tally.max_sweeps[clusters] = std::max<std::int64_t>(tally.max_sweeps[clusters], report.iterations);
+    tally.sweeps[solver] += report.iterations;
+    tally.max_sweeps[solver] = std::max<std::int64_t>(tally.max_sweeps[solver], report.iterations);
+    tally.region_solves[solver] += report.region_solves;
+    if (solver != kRegionSolves) {
+      EXPECT_EQ(report.region_solves, 0);
+    }
 
     Eigen::VectorXd P;
     engine_impulses(p, engine, dt, P);
@@ -277,7 +289,7 @@ void check_cluster(const RandomCluster& cluster, const Material& mat, Tally& tal
     }
 
     // (iii) Contact states of the engine's solution.
-    if (!clusters) {
+    if (solver == kGaussSeidel) {
       const double scale = P.cwiseAbs().maxCoeff();
       for (int k = 0; k < c; ++k) {
         const double pn = P(2 * k), pt = P(2 * k + 1);
@@ -324,16 +336,22 @@ void check_friction(double mu, std::uint64_t seed) {
   std::cout << "\n"
             << "  worst relative law violation " << tally.worst_law << ", impulse " << tally.worst_impulse
             << ", velocity " << tally.worst_velocity << "; sweeps per step: Gauss-Seidel only "
-            << double(tally.sweeps[false]) / tally.clusters << " (max " << tally.max_sweeps[false]
-            << "), cluster_solves " << double(tally.sweeps[true]) / tally.clusters << " (max " << tally.max_sweeps[true]
-            << ")\n";
+            << double(tally.sweeps[kGaussSeidel]) / tally.clusters << " (max " << tally.max_sweeps[kGaussSeidel]
+            << "), cluster_solves " << double(tally.sweeps[kClusterSolves]) / tally.clusters << " (max "
+            << tally.max_sweeps[kClusterSolves] << "), region solve after the first sweep "
+            << double(tally.sweeps[kRegionSolves]) / tally.clusters << " (max " << tally.max_sweeps[kRegionSolves]
+            << ", " << tally.region_solves[kRegionSolves] << " region solves)\n";
   // The set exercises friction: contacts stick and slide both ways.
   EXPECT_GT(tally.stick, 0);
   EXPECT_GT(tally.slide_plus, 0);
   EXPECT_GT(tally.slide_minus, 0);
   // The exact cluster solves land on the solution: a fraction of Gauss–Seidel's sweeps (a
   // wrong matrix entry or facet would leave Gauss–Seidel to do the work).
-  EXPECT_LT(4 * tally.sweeps[true], tally.sweeps[false]);
+  EXPECT_LT(4 * tally.sweeps[kClusterSolves], tally.sweeps[kGaussSeidel]);
+  // The region solve lands on the solution after the first sweep: the second finds nothing
+  // left to correct (a wrong entry of its problem would leave Gauss–Seidel to do the work).
+  EXPECT_GT(tally.region_solves[kRegionSolves], 0);
+  EXPECT_LE(tally.max_sweeps[kRegionSolves], 2);
 }
 
 TEST(FrictionClusters, Mu0_1) { check_friction(0.1, 11); }
@@ -362,30 +380,33 @@ TEST(FrictionClusters, WedgedGrainStepsAlongItsSelfStress) {
   EXPECT_EQ(Eigen::FullPivLU<Eigen::MatrixXd>(ref.problem.W).rank(), 3);  // the self-stress
   ASSERT_EQ(ref.solutions.size(), 1u);                                    // one contact slides, the other sticks
   const Eigen::VectorXd& R = ref.solutions[0].impulse;
-  std::map<bool, int> sweeps, solves;
-  for (const bool clusters : {false, true}) {
-    SCOPED_TRACE(clusters ? "cluster_solves" : "Gauss-Seidel only");
-    Engine engine(s, box, 0.0, mat, tight_settings(clusters, alert), dt);
+  std::map<int, int> sweeps, solves;
+  for (const int solver : {kGaussSeidel, kClusterSolves, kRegionSolves}) {
+    SCOPED_TRACE(solver_name(solver));
+    Engine engine(s, box, 0.0, mat, tight_settings(solver, alert), dt);
     const StepReport& report = engine.step();
     ASSERT_TRUE(report.converged);
-    sweeps[clusters] = report.iterations;
-    solves[clusters] = report.cluster_solves;
+    sweeps[solver] = report.iterations;
+    solves[solver] = report.cluster_solves + report.region_solves;
     Eigen::VectorXd P;
     engine_impulses(ref.problem, engine, dt, P);
     if (testing::Test::HasFatalFailure()) return;
     EXPECT_LE(check_laws(ref.problem, P).max(), kLawBound);
     EXPECT_LE((P - R).cwiseAbs().maxCoeff(), kMatchBound * R.cwiseAbs().maxCoeff());
   }
-  std::cout << "FrictionClusters wedged grain: sweeps " << sweeps[false] << " (Gauss-Seidel only) and " << sweeps[true]
-            << " (cluster solves, " << solves[true] << " passes)\n";
-  EXPECT_GT(sweeps[false], 1000);
-  EXPECT_LE(sweeps[true], 20);
+  std::cout << "FrictionClusters wedged grain: sweeps " << sweeps[kGaussSeidel] << " (Gauss-Seidel only), "
+            << sweeps[kClusterSolves] << " (cluster solves, " << solves[kClusterSolves] << " passes) and "
+            << sweeps[kRegionSolves] << " (" << solves[kRegionSolves] << " region solve)\n";
+  EXPECT_GT(sweeps[kGaussSeidel], 1000);
+  EXPECT_LE(sweeps[kClusterSolves], 20);
+  EXPECT_EQ(solves[kRegionSolves], 1);
+  EXPECT_LE(sweeps[kRegionSolves], 2);
 }
 
 // A large cluster (80 disks, loops, one fixed) squeezed together at μ = 0.4, e = 0: too many
 // contacts to enumerate, so the laws are checked on the engine's impulses. Gauss–Seidel alone
 // needs hundreds of sweeps; the exact frictional cluster solves land on a solution in a few
-// tens, with every law met to the same bound.
+// tens, with every law met to the same bound; so do the region solves, a part at a time.
 TEST(FrictionClusters, LargeClusterSolvedInFewSweeps) {
   Rng rng(17);
   const RandomCluster cluster = random_cluster(rng, 80, true, Vec2(20, 20));
@@ -396,24 +417,31 @@ TEST(FrictionClusters, LargeClusterSolvedInFewSweeps) {
     SCOPED_TRACE(mu);
     const Material mat{0.0, 0.0, mu};
     const ContactProblem p = test::contact_problem(cluster.state, mat, dt, alert);
-    std::map<bool, int> sweeps, largest;
-    for (const bool clusters : {false, true}) {
-      Engine engine(cluster.state, box, 0.0, mat, tight_settings(clusters, alert), dt);
+    std::map<int, int> sweeps, largest, regions;
+    for (const int solver : {kGaussSeidel, kClusterSolves, kRegionSolves}) {
+      Engine engine(cluster.state, box, 0.0, mat, tight_settings(solver, alert), dt);
       const StepReport& report = engine.step();
       ASSERT_TRUE(report.converged);
-      sweeps[clusters] = report.iterations;
-      largest[clusters] = report.largest_cluster;
+      sweeps[solver] = report.iterations;
+      largest[solver] = report.largest_cluster;
+      regions[solver] = report.region_solves;
       Eigen::VectorXd P;
       engine_impulses(p, engine, dt, P);
       if (testing::Test::HasFatalFailure()) return;
-      EXPECT_LE(check_laws(p, P).max(), kLawBound) << (clusters ? "cluster solves" : "Gauss-Seidel only");
+      EXPECT_LE(check_laws(p, P).max(), kLawBound) << solver_name(solver);
     }
     std::cout << "FrictionClusters large, mu = " << mu << ": " << p.contacts() << " candidates, sweeps "
-              << sweeps[false] << " (Gauss-Seidel only) and " << sweeps[true] << " (cluster solves, largest "
-              << largest[true] << " rows)\n";
-    EXPECT_GE(largest[true], 40);
-    EXPECT_GT(sweeps[false], 200);
-    EXPECT_LE(sweeps[true], 40);
+              << sweeps[kGaussSeidel] << " (Gauss-Seidel only), " << sweeps[kClusterSolves]
+              << " (cluster solves, largest " << largest[kClusterSolves] << " rows) and " << sweeps[kRegionSolves]
+              << " (" << regions[kRegionSolves] << " region solves)\n";
+    EXPECT_GE(largest[kClusterSolves], 40);
+    EXPECT_GT(sweeps[kGaussSeidel], 200);
+    EXPECT_LE(sweeps[kClusterSolves], 40);
+    // The region solves take at most 100 rows at the first attempt and 200 at the second
+    // (500 sweeps later), around the rows still corrected most: on this cluster of 101
+    // candidates they solve a part of it at a time, and Gauss–Seidel the rest.
+    EXPECT_GE(regions[kRegionSolves], 1);
+    EXPECT_LT(sweeps[kRegionSolves], sweeps[kGaussSeidel]);
   }
 }
 
