@@ -31,6 +31,7 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     info.set("step", engine.step_count());
     info.set("frames_written", stats.frames_written);
     info.set("unconverged_steps", stats.unconverged_steps);
+    info.set("region_solves", stats.region_solves);
     info.set("iterations", stats.iterations);
     info.set("contact_updates", stats.contact_updates);
     info.set("max_residual", stats.max_residual);
@@ -63,6 +64,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.step = info.get_int("step");
   c.stats.frames_written = info.get_int("frames_written");
   c.stats.unconverged_steps = info.get_int("unconverged_steps");
+  if (info.has("region_solves")) c.stats.region_solves = info.get_int("region_solves");
   c.stats.iterations = info.get_int("iterations");
   c.stats.contact_updates = info.get_int("contact_updates");
   c.stats.max_residual = info.get_double("max_residual");

@@ -16,6 +16,7 @@ namespace granflow {
 struct RunStats {
   std::int64_t frames_written = 0;  // frames in the partial trajectory
   std::int64_t unconverged_steps = 0;
+  std::int64_t region_solves = 0;    // exact solves of stalled regions, summed over steps
   std::int64_t iterations = 0;       // Gauss–Seidel sweeps, summed over steps
   std::int64_t contact_updates = 0;  // local contact solves, summed over steps
   double max_residual = 0;           // largest final residual of any step (a length)

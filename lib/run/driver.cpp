@@ -43,6 +43,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     stats.contact_updates += r.contact_updates;
     stats.max_residual = std::max(stats.max_residual, r.residual);
     if (!r.converged) ++stats.unconverged_steps;
+    stats.region_solves += r.region_solves;
     const std::int64_t n = engine.step_count();
     // Checked after every step, not only after unconverged ones: a resume with a lower
     // limit stops at its first step when the count so far already exceeds it.
@@ -99,6 +100,7 @@ void write_run_summary(io::TrajectoryWriter& writer, const Engine& engine, const
   s.set("frames", stats.frames_written);
   s.set("mean_iterations", steps > 0 ? double(stats.iterations) / double(steps) : 0.0);
   s.set("unconverged_steps", stats.unconverged_steps);
+  s.set("region_solves", stats.region_solves);
   s.set("max_residual", stats.max_residual);
   writer.write_attributes("/run", s);
 }

@@ -33,6 +33,12 @@ void add_contact_options(CommandLine& cli) {
   cli.flag("no-cluster-solves", 0,
            "Gauss–Seidel alone, without the exact solves of contact clusters: the same laws and tolerance, many more "
            "sweeps (a reference for comparisons)");
+  cli.integer_option("region-solve-after", 0, "N",
+                     "with friction: sweeps of a step after which the places still holding it up are solved "
+                     "exactly (regions of at most 300 contacts, by Lemke's method), then again every 500 sweeps over "
+                     "wider regions; 0 = never. No effect without friction or with --no-cluster-solves",
+                     "1000");
+  cli.conflicts("region-solve-after", "no-cluster-solves");
   cli.integer_option(
       "threads", 0, "N",
       "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
@@ -57,6 +63,10 @@ SolverSettings solver_option(const CommandLine& cli) {
   if (settings.max_iterations < 1) throw UsageError("option --max-iterations: must be >= 1");
   settings.alert_distance = cli.real("alert-distance");
   settings.cluster_solves = !cli.flag_set("no-cluster-solves");
+  const long long region_after = cli.integer("region-solve-after");
+  if (region_after < 0 || region_after > (1LL << 30)) throw UsageError("option --region-solve-after: must be >= 0");
+  // Gauss–Seidel alone means without region solves too.
+  settings.region_solve_after = settings.cluster_solves ? int(region_after) : 0;
   require_in_range("alert-distance", settings.alert_distance, 0, INFINITY, false, true);
   const long long threads = cli.integer("threads");
   if (threads < 1 || threads > 256) throw UsageError("option --threads: must be in [1, 256]");

@@ -192,6 +192,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"rate_zero_without_temperature", "-i {in} -o {out} --rate 0 --steps 10",
                                "--temperature"},
                       BadInput{"frame_out_of_range", "-i {in} -o {out} --frame 4", "--frame"},
+                      BadInput{"region_solve_after_negative", "-i {in} -o {out} --region-solve-after -1",
+                               "--region-solve-after"},
+                      BadInput{"region_solve_after_with_no_cluster_solves",
+                               "-i {in} -o {out} --region-solve-after 10 --no-cluster-solves", "--region-solve-after"},
                       BadInput{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
     bad_input_name);
 
@@ -277,4 +281,27 @@ TEST(GfShearSolver, NoClusterSolvesTakesMoreSweeps) {
               << " with --no-cluster-solves\n";
     EXPECT_GT(sweeps[1], 3 * sweeps[0]);
   }
+}
+
+// --region-solve-after N: with friction, a step not done after N sweeps solves its stalled
+// regions exactly; /run counts those solves. After 1 sweep they happen in many steps of a
+// dense frictional start; with 0, never; without friction, never either.
+TEST(GfShearSolver, RegionSolvesCountedInRun) {
+  ScratchDir dir("shear_region_solves");
+  const std::string dense = packed_once("shear_packing_076", "--grains 200 --packing-fraction 0.76 --seed 3");
+  auto region_solves = [&](const std::string& friction, const std::string& after) {
+    const std::string out = dir / ("run_" + friction + "_" + after + ".h5");
+    auto r = run_tool("gf-shear", "-i " + dense + " --rate 0.01 --strain-step 1e-3 --restitution 0 --friction " +
+                                      friction + " --steps 50 --quiet --region-solve-after " + after + " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    if (r.exit_code != 0) return std::int64_t(-1);
+    const io::Parameters run = io::TrajectoryReader(out).attributes("/run");
+    EXPECT_EQ(run.get_int("unconverged_steps"), 0);
+    return run.get_int("region_solves");
+  };
+  const std::int64_t after_one = region_solves("0.4", "1");
+  std::cout << "gf-shear mu = 0.4, --region-solve-after 1: " << after_one << " region solves in 50 steps\n";
+  EXPECT_GE(after_one, 10);
+  EXPECT_EQ(region_solves("0.4", "0"), 0);
+  EXPECT_EQ(region_solves("0", "1"), 0);
 }
