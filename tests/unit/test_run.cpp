@@ -98,6 +98,7 @@ TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
   RunStats stats;
   stats.frames_written = 7;
   stats.unconverged_steps = 3;
+  stats.region_solves = 5;
   stats.iterations = 123456789012;
   stats.contact_updates = 987654321098;
   stats.max_residual = 1.25e-11;
@@ -115,6 +116,7 @@ TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
   EXPECT_EQ(c.signature, signature);
   EXPECT_EQ(c.stats.frames_written, stats.frames_written);
   EXPECT_EQ(c.stats.unconverged_steps, stats.unconverged_steps);
+  EXPECT_EQ(c.stats.region_solves, stats.region_solves);
   EXPECT_EQ(c.stats.iterations, stats.iterations);
   EXPECT_EQ(c.stats.contact_updates, stats.contact_updates);
   EXPECT_EQ(c.stats.max_residual, stats.max_residual);
@@ -263,6 +265,7 @@ TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
   }
   EXPECT_EQ(ref.attributes("/run").get_int("steps"), cut.attributes("/run").get_int("steps"));
   EXPECT_EQ(ref.attributes("/run").get_int("unconverged_steps"), cut.attributes("/run").get_int("unconverged_steps"));
+  EXPECT_EQ(ref.attributes("/run").get_int("region_solves"), cut.attributes("/run").get_int("region_solves"));
   EXPECT_EQ(ref.attributes("/run").get_double("max_residual"), cut.attributes("/run").get_double("max_residual"));
   EXPECT_EQ(ref.attributes("/run").get_double("mean_iterations"), cut.attributes("/run").get_double("mean_iterations"));
 }
