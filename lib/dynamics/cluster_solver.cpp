@@ -655,22 +655,32 @@ void ClusterSolver::assemble_frictional_cluster(Scratch& w) const {
 // Reorders the cluster's unknowns from `first` on (the loops left after peeling) by
 // approximate minimum degree (Eigen's AMD) on their coupling pattern.
 void ClusterSolver::order_loops(Scratch& w, int first) {
+  // The loops' graph for Eigen's approximate minimum degree: the full symmetric pattern,
+  // diagonal included, each column's rows sorted and distinct (what AMDOrdering would build
+  // from one triangle by transposing and adding, built here in one pass).
   const int q = int(w.order.size()) - first;
-  std::vector<Eigen::Triplet<double>> pattern;
+  Eigen::SparseMatrix<double> graph(q, q);
+  w.start.assign(q + 1, 0);
+  w.row.clear();
   for (int t = 0; t < q; ++t) {
     const Row& a = rows_[w.order[first + t]];
+    const std::size_t column = w.row.size();
     for (int body : {a.i, a.j}) {
       if (bodies_[body].inv_mass == 0) continue;
       for (int p = body_start_[body]; p < body_start_[body + 1]; ++p) {
         const int u = unknown_[body_rows_[p]] - first;
-        if (u >= 0 && u <= t) pattern.emplace_back(t, u, 1.0);
+        if (u >= 0) w.row.push_back(u);
       }
     }
+    std::sort(w.row.begin() + std::ptrdiff_t(column), w.row.end());
+    w.row.erase(std::unique(w.row.begin() + std::ptrdiff_t(column), w.row.end()), w.row.end());
+    w.start[t + 1] = int(w.row.size());
   }
-  Eigen::SparseMatrix<double> loops(q, q);
-  loops.setFromTriplets(pattern.begin(), pattern.end());
+  graph.resizeNonZeros(Eigen::Index(w.row.size()));
+  std::copy(w.start.begin(), w.start.end(), graph.outerIndexPtr());
+  std::copy(w.row.begin(), w.row.end(), graph.innerIndexPtr());
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
-  Eigen::AMDOrdering<int>()(loops, order);  // order.indices()[k]: the k-th to eliminate
+  Eigen::internal::minimum_degree_ordering(graph, order);  // order.indices()[k]: the k-th to eliminate
   w.peel.assign(w.order.begin() + first, w.order.end());
   for (int k = 0; k < q; ++k) {
     const int c = w.peel[order.indices()[k]];
