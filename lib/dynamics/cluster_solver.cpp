@@ -653,11 +653,11 @@ void ClusterSolver::assemble_frictional_cluster(Scratch& w) const {
 }
 
 // Reorders the cluster's unknowns from `first` on (the loops left after peeling) by
-// approximate minimum degree (Eigen's AMD) on their coupling pattern.
+// approximate minimum degree (Eigen's AMD) on their coupling pattern. The pattern is built
+// as that routine takes it, full and symmetric, diagonal included, each column's rows sorted
+// and distinct: the same input, hence the same order, as Eigen's AMDOrdering makes from one
+// triangle, without its triplets, transpose and sum.
 void ClusterSolver::order_loops(Scratch& w, int first) {
-  // The loops' graph for Eigen's approximate minimum degree: the full symmetric pattern,
-  // diagonal included, each column's rows sorted and distinct (what AMDOrdering would build
-  // from one triangle by transposing and adding, built here in one pass).
   const int q = int(w.order.size()) - first;
   Eigen::SparseMatrix<double> graph(q, q);
   w.start.assign(q + 1, 0);
