@@ -3,9 +3,12 @@
 # (also when this script is interrupted or timed out: both then end).
 # Xvfb picks a free display itself and names it once it accepts clients (-displayfd), so two
 # of these never race for one display number (xvfb-run -a can: it guesses a free number first).
-# On a loaded machine a client has once been refused by a server that had named its display
-# ("bad X server connection"): the script then waits until the server's socket accepts a
-# connection, and runs COMMAND once more with a new server if it still fails that way.
+# The server runs with -noreset: by default Xvfb resets itself whenever its last client
+# disconnects (the socket probe below, or pvbatch closing its first connection), and a client
+# connecting during the reset is refused ("bad X server connection"); on a loaded machine that
+# window is long enough to hit (2 of 6 pvbatch runs with both cores busy, none of 10 with
+# -noreset). The script also waits until the server's socket accepts a connection, and runs
+# COMMAND once more with a new server if it is still refused.
 set -euo pipefail
 dir=$(mktemp -d "${TMPDIR:-/tmp}/granflow_xvfb.XXXXXX")
 server= child=
@@ -24,7 +27,7 @@ trap 'exit 130' INT
 
 start_server() {
   rm -f "$dir/display"
-  Xvfb -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3> "$dir/display" 2> "$dir/log" &
+  Xvfb -displayfd 3 -nolisten tcp -noreset -screen 0 1280x1024x24 3> "$dir/display" 2> "$dir/log" &
   server=$!
   for _ in $(seq 100); do
     [ -s "$dir/display" ] && break
