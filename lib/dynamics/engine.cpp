@@ -86,6 +86,7 @@ Engine::Engine(GrainState state, Box box, double rate, Material material, Solver
   require(box_.lx >= 2 * cutoff && (!box_.periodic_y || box_.ly >= 2 * cutoff),
           "box smaller than two contact-search cutoffs (2·R_max + alert distance)");
   broad_ = BroadPhase(settings_.skin > 0 ? settings_.skin : 0.3 * mean_diameter, max_radius_);
+  gauss_seidel_.skip_settled_rows(settings_.skip_settled_rows);
   for (std::size_t i = 0; i < n; ++i) box_.wrap(state_.position[i], state_.velocity[i], rate_);
   contacts_ = ContactRows(n);
   detect(false);
@@ -164,12 +165,14 @@ void Engine::solve() {
           gauss_seidel_.touched(), mu, upsilon, kRegionSeedFraction, 1 + attempt,
           std::min(kRegionRows, kRegionRowsStep * (1 + attempt)));
       rep.region_solves += o.solved;
+      gauss_seidel_.revisit_all();
     } else if (clusters && it >= next_cluster_solve &&
                100 * gauss_seidel_.status_changes() <= gauss_seidel_.active_rows()) {
       // The active set has (nearly) settled: solve its clusters exactly. While it keeps
       // changing, each solve waits twice as many sweeps as the one before, so that their
       // number stays logarithmic in the sweeps of the step. The pass marks the tiles of the
       // rows it solved, to be swept next.
+      gauss_seidel_.revisit_all();
       const int largest = clusters_.solve(contacts_, tiling_, gauss_seidel_.work(), gauss_seidel_.row_flags(),
                                           gauss_seidel_.moved(), gauss_seidel_.touched(), mu, upsilon, threads);
       rep.largest_cluster = std::max(rep.largest_cluster, largest);

@@ -102,6 +102,11 @@ struct SolverSettings {
   // wider region; 0: never. Both reach a solution within the tolerance; only the cost and,
   // where the solution is not unique, the trajectory depend on it.
   int region_solve_after = 1000;
+  // With friction, sweeps skip the rows that their last visit left settled while no
+  // neighbouring row has corrected them by Υ or more since (see GaussSeidel::sweep());
+  // false: every row of the tiles swept. Both reach a solution within the tolerance; the
+  // trajectories differ in round-off and, where the solution is not unique, within it.
+  bool skip_settled_rows = true;
   // Residual checks over every row every time, instead of only where something changed
   // since the last one: the same trajectory, bit for bit (a reference for the tests).
   bool full_checks = false;

@@ -19,6 +19,7 @@ void GaussSeidel::select_working_set(const ContactRows& contacts, const Tiling& 
   in_work_.resize(count);
   row_flags_.resize(count);
   moved_.assign(std::size_t(tiling.tiles()), 1);
+  revisit_all_ = true;
   touched_.assign(std::size_t(tiling.tiles()), 1);  // the first check of a step is everywhere
   tile_residual_.resize(touched_.size());
   parallel_for(threads, count, [&](std::ptrdiff_t c) {
@@ -53,6 +54,7 @@ void GaussSeidel::group_working_set(const Tiling& tiling) {
   }
   work_start_[tiles] = q;
   work_.resize(size);
+  work_bodies_stale_ = true;
 }
 
 // One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
@@ -76,6 +78,28 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
   double worst = 0;
   int changes = 0, active = 0;
   std::int64_t visits = 0;
+  // With friction a row is skipped if its last visit left it below Υ (not hot) and no row
+  // sharing one of its grains has corrected it by Υ or more since: in the previous sweep
+  // (kick_prev) or in this one so far (kick_now). Its local solve would then change it by
+  // less than Υ (apart from the build-up of smaller corrections, which the residual check
+  // finds). A sweep after anything else changed impulses (a check, a cluster or region
+  // solve, a new step) visits every row of its tiles. Frictionless sweeps visit every row:
+  // their trajectories stay those of before, bit for bit.
+  const bool skip_settled = Friction && skip_settled_rows_ && !revisit_all_;
+  if constexpr (Friction) {
+    const std::size_t bodies = contacts.bodies().size();
+    for (auto& k : kicked_) k.resize(bodies);
+    std::fill(kicked_[kick_now_].begin(), kicked_[kick_now_].end(), std::uint8_t(0));
+    if (work_bodies_stale_) {
+      const std::vector<Row>& rows = contacts.rows();
+      work_bodies_.resize(work_.size());
+      for (std::size_t q = 0; q < work_.size(); ++q) work_bodies_[q] = {rows[work_[q]].i, rows[work_[q]].j};
+      work_bodies_stale_ = false;
+    }
+  }
+  const std::uint8_t* const kick_prev = Friction ? kicked_[1 - kick_now_].data() : nullptr;
+  std::uint8_t* const kick_now = Friction ? kicked_[kick_now_].data() : nullptr;
+  const std::array<int, 2>* const work_bodies = work_bodies_.data();
   // Where a strip's sweep stands: its next tile (step), the rows left in the current tile
   // (q up to end, by dir) and that tile's largest correction and counts so far.
   struct Cursor {
@@ -101,6 +125,16 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
       // The local solve of row work_rows[q]; folds its correction and counts into a tile's.
       auto update = [&](int q, double& tile_worst, int& tile_changes, int& tile_active) {
         const int c = work_rows[q];
+        if constexpr (Friction) {
+          if (skip_settled && !(row_flags[c] & kHot)) {
+            const auto [i, j] = work_bodies[q];
+            if (!(kick_prev[i] | kick_prev[j] | kick_now[i] | kick_now[j])) {
+              tile_active += (row_flags[c] & kBearing) != 0;
+              --visits;  // not a local solve
+              return;
+            }
+          }
+        }
         Row& r = row_data[c];
         Body& a = body_data[r.i];
         Body& b = body_data[r.j];
@@ -117,7 +151,9 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
           const int slides = bears & (std::fabs(pt) == mu * pn), slid = bore & (std::fabs(g.pt) == mu * r.pn);
           tile_changes += (bears ^ bore) | (slides ^ slid) | (slides & slid & ((pt > 0) ^ (g.pt > 0)));
           tile_active += bears;
-          row_flags[c] = std::uint8_t((d >= upsilon * r.inv_w) * kHot | bears * kBearing);
+          const bool hot = d >= upsilon * r.inv_w;
+          row_flags[c] = std::uint8_t(hot * kHot | bears * kBearing);
+          if (hot) kick_now[r.i] = kick_now[r.j] = 1;
           r.pn = pn;
           g.pt = pt;
           add_impulse(r, a, b, dpn, dpt);
@@ -217,6 +253,10 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
   status_changes_ = changes;
   active_rows_ = active;
   updates += visits;
+  if constexpr (Friction) {
+    kick_now_ = 1 - kick_now_;
+    revisit_all_ = false;
+  }
   return worst;
 }
 
@@ -232,6 +272,7 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
 // joined), and still have: the check outside it skips those tiles as well.
 double GaussSeidel::check(const ContactRows& contacts, const Tiling& tiling, double mu, double upsilon, bool everywhere,
                           bool full_checks, int threads, std::int64_t& updates) {
+  revisit_all_ = true;  // rows found off or joining are swept next, settled or not
   const Row* const rows = contacts.rows().data();
   const Tangent* const tangents = contacts.tangents().data();
   const Body* const bodies = contacts.bodies().data();
@@ -287,7 +328,8 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
 
 std::size_t GaussSeidel::bytes() const {
   return heap_bytes(work_) + heap_bytes(work_start_) + heap_bytes(in_work_) + heap_bytes(row_flags_) +
-         heap_bytes(moved_) + heap_bytes(touched_) + heap_bytes(tile_residual_);
+         heap_bytes(moved_) + heap_bytes(touched_) + heap_bytes(tile_residual_) + heap_bytes(kicked_[0]) +
+         heap_bytes(kicked_[1]) + heap_bytes(work_bodies_);
 }
 
 }  // namespace granflow

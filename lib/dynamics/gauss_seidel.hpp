@@ -5,7 +5,10 @@
 // start or at the free velocities and the pairs whose normal constraint is within v_rel of
 // binding; the others join it as soon as a check finds them violated. Tiles that have
 // settled are skipped, and a check or a cluster solve that changes something wakes only
-// the tiles concerned.
+// the tiles concerned. With friction, within the tiles swept, a row that its last visit
+// left settled is skipped as long as no row sharing a grain has made a correction of Υ or
+// more since (see sweep()).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -40,6 +43,11 @@ class GaussSeidel {
   std::uint8_t* row_flags() { return row_flags_.data(); }
   std::uint8_t* moved() { return moved_.data(); }
   std::uint8_t* touched() { return touched_.data(); }
+  // After impulses changed other than by the sweeps (a cluster or region solve): the next
+  // sweep visits every row of the tiles it sweeps.
+  void revisit_all() { revisit_all_ = true; }
+  // Whether frictional sweeps skip settled rows (SolverSettings::skip_settled_rows).
+  void skip_settled_rows(bool on) { skip_settled_rows_ = on; }
 
   std::size_t bytes() const;
 
@@ -59,6 +67,13 @@ class GaussSeidel {
   std::vector<std::uint8_t> touched_;  // per tile: swept or solved since the last check everywhere
   std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
   int status_changes_ = 0, active_rows_ = 0;
+  // With friction: per body, whether a row made a correction of Υ or more on it in the
+  // previous sweep and in this one (kicked_[kick_now_]); the working set's bodies by
+  // position, compact for that test; and whether the next sweep must visit every row.
+  std::array<std::vector<std::uint8_t>, 2> kicked_;
+  int kick_now_ = 0;
+  std::vector<std::array<int, 2>> work_bodies_;
+  bool work_bodies_stale_ = true, revisit_all_ = true, skip_settled_rows_ = true;
 };
 
 }  // namespace granflow

@@ -31,8 +31,8 @@ void add_contact_options(CommandLine& cli) {
                   "0.01");
   cli.real_option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
   cli.flag("no-cluster-solves", 0,
-           "Gauss–Seidel alone, without the exact solves of contact clusters: the same laws and tolerance, many more "
-           "sweeps (a reference for comparisons)");
+           "Gauss–Seidel alone, without the exact solves of contact clusters (nor region solves, nor skipping "
+           "settled rows): the same laws and tolerance, many more sweeps (a reference for comparisons)");
   cli.integer_option("region-solve-after", 0, "N",
                      "with friction: sweeps of a step after which the places still holding it up are solved "
                      "exactly (regions of at most 300 contacts, by Lemke's method), then again every 500 sweeps over "
@@ -65,8 +65,10 @@ SolverSettings solver_option(const CommandLine& cli) {
   settings.cluster_solves = !cli.flag_set("no-cluster-solves");
   const long long region_after = cli.integer("region-solve-after");
   if (region_after < 0 || region_after > (1LL << 30)) throw UsageError("option --region-solve-after: must be >= 0");
-  // Gauss–Seidel alone means without region solves too.
+  // Gauss–Seidel alone means the solver before the cluster solves: without region solves,
+  // and with every row of the tiles swept.
   settings.region_solve_after = settings.cluster_solves ? int(region_after) : 0;
+  settings.skip_settled_rows = settings.cluster_solves;
   require_in_range("alert-distance", settings.alert_distance, 0, INFINITY, false, true);
   const long long threads = cli.integer("threads");
   if (threads < 1 || threads > 256) throw UsageError("option --threads: must be in [1, 256]");

@@ -355,6 +355,53 @@ TEST(Solver, PartialChecksAreExactWhenStepsRunOut) {
   EXPECT_GT(unconverged, 0);  // the case this test is about happened
 }
 
+// With friction the sweeps skip rows that their last visit left settled while no row sharing
+// a grain has corrected them by Υ or more since. The step still ends only when every
+// residual is below Υ, so from the same state the same solution comes out, to the
+// tolerance; and the skipping must pay: fewer local solves, no more sweeps.
+TEST(Solver, SettledRowsSkippedWithFriction) {
+  test::Packing p = test::random_packing(2000, 0.78, 63);
+  const double rate = 1.0, dt = 1e-3;
+  add_affine_flow(p.state, p.box, rate);
+  const Material mat{0.0, 0.0, 0.4};
+  SolverSettings every_row;
+  every_row.skip_settled_rows = false;
+  Engine a(p.state, p.box, rate, mat, {}, dt);
+  // Warm up to a sheared state (the first steps from the affine start are not typical),
+  // then continue both from a's state for one step.
+  for (int k = 0; k < 30; ++k) a.step();
+  Engine skip(a.state(), a.box(), rate, mat, {}, dt), every(a.state(), a.box(), rate, mat, every_row, dt);
+  skip.restore(a.step_count(), a.memory());
+  every.restore(a.step_count(), a.memory());
+  const StepReport rs = skip.step(), re = every.step();
+  ASSERT_TRUE(rs.converged);
+  ASSERT_TRUE(re.converged);
+  const double upsilon = SolverSettings{}.tolerance / dt;
+  double dv = 0;
+  for (std::size_t i = 0; i < skip.state().size(); ++i)
+    dv = std::max(dv, (skip.state().velocity[i] - every.state().velocity[i]).norm());
+  std::cout << "Solver: one step, " << rs.iterations << " and " << re.iterations << " sweeps, " << rs.contact_updates
+            << " and " << re.contact_updates << " local solves, largest velocity difference " << dv / upsilon
+            << " Υ\n";
+  EXPECT_LT(dv, 100 * upsilon);
+  // Over 20 steps each.
+  std::int64_t updates_skip = 0, updates_every = 0, sweeps_skip = 0, sweeps_every = 0;
+  for (int k = 0; k < 20; ++k) {
+    const StepReport& r1 = skip.step();
+    ASSERT_TRUE(r1.converged);
+    updates_skip += r1.contact_updates;
+    sweeps_skip += r1.iterations;
+    const StepReport& r2 = every.step();
+    ASSERT_TRUE(r2.converged);
+    updates_every += r2.contact_updates;
+    sweeps_every += r2.iterations;
+  }
+  std::cout << "Solver: 20 steps, " << sweeps_skip << " and " << sweeps_every << " sweeps, " << updates_skip << " and "
+            << updates_every << " local solves (settled rows skipped, every row)\n";
+  EXPECT_LT(updates_skip, updates_every);
+  EXPECT_LE(sweeps_skip, sweeps_every + sweeps_every / 4);
+}
+
 // A packing at ν = 0.83, just below jamming, sheared from rest: its first active sets are
 // hyperstatic and their exact cluster solves near-singular. Kept, such a solve can return
 // self-stresses of 10^20 and more that send grains off at 10^30 in the first step ("grains
