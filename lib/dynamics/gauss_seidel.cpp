@@ -54,7 +54,6 @@ void GaussSeidel::group_working_set(const Tiling& tiling) {
   }
   work_start_[tiles] = q;
   work_.resize(size);
-  work_bodies_stale_ = true;
 }
 
 // One Gauss–Seidel sweep over the working set, strips of one parity (in parallel), then of
@@ -90,16 +89,9 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
     const std::size_t bodies = contacts.bodies().size();
     for (auto& k : kicked_) k.resize(bodies);
     std::fill(kicked_[kick_now_].begin(), kicked_[kick_now_].end(), std::uint8_t(0));
-    if (work_bodies_stale_) {
-      const std::vector<Row>& rows = contacts.rows();
-      work_bodies_.resize(work_.size());
-      for (std::size_t q = 0; q < work_.size(); ++q) work_bodies_[q] = {rows[work_[q]].i, rows[work_[q]].j};
-      work_bodies_stale_ = false;
-    }
   }
   const std::uint8_t* const kick_prev = Friction ? kicked_[1 - kick_now_].data() : nullptr;
   std::uint8_t* const kick_now = Friction ? kicked_[kick_now_].data() : nullptr;
-  const std::array<int, 2>* const work_bodies = work_bodies_.data();
   // Where a strip's sweep stands: its next tile (step), the rows left in the current tile
   // (q up to end, by dir) and that tile's largest correction and counts so far.
   struct Cursor {
@@ -125,17 +117,15 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
       // The local solve of row work_rows[q]; folds its correction and counts into a tile's.
       auto update = [&](int q, double& tile_worst, int& tile_changes, int& tile_active) {
         const int c = work_rows[q];
+        Row& r = row_data[c];
         if constexpr (Friction) {
-          if (skip_settled && !(row_flags[c] & kHot)) {
-            const auto [i, j] = work_bodies[q];
-            if (!(kick_prev[i] | kick_prev[j] | kick_now[i] | kick_now[j])) {
-              tile_active += (row_flags[c] & kBearing) != 0;
-              --visits;  // not a local solve
-              return;
-            }
+          if (skip_settled && !(row_flags[c] & kHot) &&
+              !(kick_prev[r.i] | kick_prev[r.j] | kick_now[r.i] | kick_now[r.j])) {
+            tile_active += (row_flags[c] & kBearing) != 0;
+            --visits;  // not a local solve
+            return;
           }
         }
-        Row& r = row_data[c];
         Body& a = body_data[r.i];
         Body& b = body_data[r.j];
         if constexpr (Friction) {
@@ -329,7 +319,7 @@ double GaussSeidel::sweep(ContactRows& contacts, const Tiling& tiling, double mu
 std::size_t GaussSeidel::bytes() const {
   return heap_bytes(work_) + heap_bytes(work_start_) + heap_bytes(in_work_) + heap_bytes(row_flags_) +
          heap_bytes(moved_) + heap_bytes(touched_) + heap_bytes(tile_residual_) + heap_bytes(kicked_[0]) +
-         heap_bytes(kicked_[1]) + heap_bytes(work_bodies_);
+         heap_bytes(kicked_[1]);
 }
 
 }  // namespace granflow

@@ -68,12 +68,11 @@ class GaussSeidel {
   std::vector<double> tile_residual_;  // per tile: largest residual at its last check everywhere
   int status_changes_ = 0, active_rows_ = 0;
   // With friction: per body, whether a row made a correction of Υ or more on it in the
-  // previous sweep and in this one (kicked_[kick_now_]); the working set's bodies by
-  // position, compact for that test; and whether the next sweep must visit every row.
+  // previous sweep and in this one (kicked_[kick_now_]), and whether the next sweep must
+  // visit every row.
   std::array<std::vector<std::uint8_t>, 2> kicked_;
   int kick_now_ = 0;
-  std::vector<std::array<int, 2>> work_bodies_;
-  bool work_bodies_stale_ = true, revisit_all_ = true, skip_settled_rows_ = true;
+  bool revisit_all_ = true, skip_settled_rows_ = true;
 };
 
 }  // namespace granflow
