@@ -9,6 +9,9 @@
 # Analyses (gf-correlate, one row per run): $(RUNS)/ch5_correlate.h5 (the sweep, with
 # --reference: ξ/ξ_el, ν_bc) and $(RUNS)/ch5_clusters.h5 (the windows' contact clusters).
 # Figures $(FIGURES)/fig5_<k>.png read them through pipelines/granflow_py/correlation_table.py.
+# ν_c(μ, e), where the steady stresses diverge: $(RUNS)/ch5_steady.h5 (steady_state.py over the
+# sweep) and $(RUNS)/ch5_jamming.h5 (jamming_point.py on it, per (μ, e) group of runs at
+# ν >= CH5_JAMMING_FROM_NU).
 # A change of gf-correlate's code redoes the two analyses and the figures, never a run.
 
 CH5_SWEEP_RUNS     := $(sort $(foreach e,$(CH5_E),$(foreach nu,$(CH5_NU),\
@@ -18,7 +21,7 @@ CH5_SWEEP_RUNS     := $(sort $(foreach e,$(CH5_E),$(foreach nu,$(CH5_NU),\
 CH5_REFERENCE_RUNS := $(call shear_run,$(CH5_REFERENCE_NU),$(CH5_REFERENCE_E),0.00,$(CH5_RATE),$(CH5_SEED))
 CH5_WINDOW_RUNS    := $(foreach e,$(CH5_CLUSTER_E),\
                         $(RUNS)/window_nu$(CH5_CLUSTER_NU)_e$(e)_mu0.00_r$(CH5_RATE)_s$(CH5_SEED).h5)
-CH5_TABLES         := $(RUNS)/ch5_correlate.h5 $(RUNS)/ch5_clusters.h5
+CH5_TABLES         := $(RUNS)/ch5_correlate.h5 $(RUNS)/ch5_clusters.h5 $(RUNS)/ch5_jamming.h5
 CH5_FIGURES        := $(foreach k,1 2 3 4 5 6 7 8 9 10,$(FIGURES)/fig5_$(k).png)
 CH5_ANALYSIS       := $(GRANFLOW_PY) pipelines/sizes/$(SIZE).mk
 # gf-correlate's settings beyond its defaults (none at present; e.g. --blocks 10).
@@ -45,6 +48,11 @@ $(RUNS)/ch5_clusters.h5: $(CH5_WINDOW_RUNS) $(STAMPS)/gf-correlate.stamp pipelin
 	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain 0 --blocks 1 --bootstrap 0 \
 	  --clusters-window $(CH5_WINDOW_STEPS) $(CH5_WINDOW_RUNS)
 
+$(RUNS)/ch5_steady.h5: $(CH5_SWEEP_RUNS) $(CH4_ANALYSIS) | $(RUNS)/
+	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CH5_FROM_STRAIN) --detect-transient -o $@ $(CH5_SWEEP_RUNS)
+$(RUNS)/ch5_jamming.h5: $(RUNS)/ch5_steady.h5 pipelines/analysis/jamming_point.py $(CH5_ANALYSIS) | $(RUNS)/
+	$(PYTHON) pipelines/analysis/jamming_point.py --from-nu $(CH5_JAMMING_FROM_NU) -o $@ $<
+
 CH5_TABLE := $(RUNS)/ch5_correlate.h5
 $(FIGURES)/fig5_1.png: $(RUNS)/ch5_clusters.h5 $(CH5_WINDOW_RUNS) pipelines/plot/ch5_clusters.py $(CH5_ANALYSIS) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/ch5_clusters.py $< $@
@@ -69,4 +77,5 @@ $(FIGURES)/fig5_10.png: $(CH5_TABLE) pipelines/plot/ch5_phase.py $(CH5_ANALYSIS)
 
 # The report's chapter-5 section.
 $(FIGURES)/REPORT.md: $(CH5_TABLES) $(CH5_ANALYSIS)
-REPORT_ARGS += --ch5-correlate $(RUNS)/ch5_correlate.h5 --ch5-clusters $(RUNS)/ch5_clusters.h5
+REPORT_ARGS += --ch5-correlate $(RUNS)/ch5_correlate.h5 --ch5-clusters $(RUNS)/ch5_clusters.h5 \
+               --ch5-jamming $(RUNS)/ch5_jamming.h5

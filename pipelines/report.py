@@ -16,6 +16,7 @@ from granflow_py import correlation_table as ct
 from granflow_py import kinetic_table as kt
 from granflow_py import network_table as nt
 from granflow_py import stz_table as stz
+from granflow_py import outputs
 from granflow_py.outputs import atomic_output
 
 
@@ -674,6 +675,65 @@ def ch5_section(correlate_path, clusters_path):
     return lines
 
 
+def ch5_jamming_section(jamming_path):
+    """ν_c(μ, e) from the divergence of the steady stresses (jamming_point.py), beside §5.2."""
+    table = outputs.read_table(jamming_path, ("fits", "skipped"))
+    fits, skipped, prm = table["fits"], table["skipped"], table["parameters"]
+    lines = [
+        "",
+        "### ν_c from the steady stresses (jamming_point.py)",
+        "",
+        quote(
+            "The data in Figures 5.3 and 5.4 demonstrates that ξ diverges at a finite packing fraction ν_c "
+            "that depends on the friction coefficient μ, but not on the restitution coefficient e.",
+            "568",
+        ),
+        f"Table `{jamming_path}`: per (μ, e), the runs at ν ≥ {float(prm['from_nu']):g} fitted to "
+        "q = A (ν_c − ν)^−β, q = p/(mγ̇²) or s/(mγ̇²) (weighted least squares in ln q; ν_c's interval where "
+        "χ² stays within max(1, χ²/dof) of its minimum; `pipelines/analysis/jamming_point.py`). The thesis "
+        "estimates ν_c ≈ 0.845 at μ = 0 (Fig. 5.10). An extrapolation: ν_c lies above every run.",
+    ]
+    keys = sorted({(float(m), float(e)) for m, e in zip(fits["friction"], fits["restitution"])})
+    if keys:
+        lines += [
+            "",
+            "| μ | e | runs | densest ν | ν_c from p, β free | β | χ²/dof | ν_c from p, β = 2 | ν_c from s, β free | β |",
+            "|---|---|---|---|---|---|---|---|---|---|",
+        ]
+
+    def interval(i):
+        hi = fits["nu_c_high"][i]
+        return (f"{fits['nu_c'][i]:.4f} [{fits['nu_c_low'][i]:.4f}, "
+                + (f"{hi:.4f}]" if math.isfinite(hi) else "∞)"))
+
+    quantity = list(fits["quantity"])
+    free = np.isnan(fits["exponent_fixed"])
+    for mu, e in keys:
+        group = (fits["friction"] == mu) & (fits["restitution"] == e)
+
+        def row(q, fixed=None):
+            pick = group & np.array([x == q for x in quantity])
+            pick &= free if fixed is None else (fits["exponent_fixed"] == fixed)
+            return int(np.flatnonzero(pick)[0]) if pick.any() else None
+
+        p, p2, sh = row("pressure_scaled"), row("pressure_scaled", 2.0), row("shear_stress_scaled")
+        lines.append(
+            f"| {mu:g} | {e:g} | {int(fits['points'][p])} | {fits['nu_max'][p]:g} | {interval(p)} | "
+            f"{fits['exponent'][p]:.2f} | {fits['chi2'][p]:.1f}/{int(fits['dof'][p])} | "
+            + (interval(p2) if p2 is not None else "—")
+            + f" | {interval(sh)} | {fits['exponent'][sh]:.2f} |"
+        )
+    if len(skipped["friction"]):
+        lines.append("")
+        lines.append(
+            "Not fitted (fewer than 4 runs at ν ≥ " + f"{float(prm['from_nu']):g}): "
+            + ", ".join(f"μ = {m:g}, e = {e:g} ({int(n)})"
+                        for m, e, n in zip(skipped["friction"], skipped["restitution"], skipped["points"]))
+            + "."
+        )
+    return lines
+
+
 def ch6_section(kinetic_path, correlate_path):
     """Chapter 6, kinetic theory: gf-kinetic's stresses and predictions beside the statements of
     thesis §6.1 (every number from the tables; "not measured" where a dataset is NaN)."""
@@ -1240,6 +1300,7 @@ def main():
     ap.add_argument("--ch4-reference", help="the Fig 4.3 run")
     ap.add_argument("--ch5-correlate", help="gf-correlate table of the chapter-5 sweep (Figs 5.2-5.10)")
     ap.add_argument("--ch5-clusters", help="gf-correlate table of the Fig 5.1 cluster windows")
+    ap.add_argument("--ch5-jamming", help="jamming_point.py table (ν_c from the steady stresses)")
     ap.add_argument("--ch4-incline", help="incline_bulk.py table of the incline runs (Figs 4.8-4.10)")
     ap.add_argument("--ch4-critical", help="critical_angle.py table (θ_c)")
     ap.add_argument("--ch6-kinetic", help="gf-kinetic table of the chapter-6 runs (Figs 6.1-6.3)")
@@ -1276,6 +1337,8 @@ def main():
         lines += incline_section(args.ch4_incline, args.ch4_critical, args.ch4_sweep)
     if args.ch5_correlate:
         lines += ch5_section(args.ch5_correlate, args.ch5_clusters)
+    if args.ch5_jamming:
+        lines += ch5_jamming_section(args.ch5_jamming)
     if args.ch6_kinetic:
         lines += ch6_section(args.ch6_kinetic, args.ch5_correlate)
     if args.ch6_network:

@@ -41,6 +41,9 @@ CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.790
 CH5_CLUSTER_E     := 0.92 0.00
 CH5_WINDOW_STEPS  := 2
+# ν_c(μ, e) from the divergence of p/γ̇² and s/γ̇² (jamming_point.py): the runs at ν >= this;
+# a (μ, e) group with fewer than 4 of them is listed, not fitted.
+CH5_JAMMING_FROM_NU := 0.700
 # Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν.
 CH4_FRICTION_NU   := 0.700 0.740 0.760 0.770 0.780 0.790 0.800
 CH4_FRICTION_E    := 0.50

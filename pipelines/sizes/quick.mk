@@ -32,15 +32,16 @@ SHEAR_LONG_FRAME_EVERY := 160
 # at ν = 0.8, the largest lag counted) keeps ξ measurable up to ν ≈ 0.8; the ν grid adds
 # the dilute end and the dense steps of Figs 5.2-5.3 (ν_c ≈ 0.845). Figs 5.3, 5.5-5.10 for
 # every e at μ = 0; Fig 5.4 at e = CH5_FRICTION_E for every μ over CH5_FRICTION_NU (frictional
-# runs cost more, growing towards their lower jamming point: 17 s of CPU at ν = 0.78, 46 sweeps
-# per step; docs/performance.md, "Frictional flows"). ξ_el from the dilute run(s)
+# runs cost more, growing towards their lower jamming point, ν_c ≈ 0.806 at μ = 0.4: 17 s of CPU
+# at ν = 0.78, 46 sweeps per step, 38 s at 0.79, 107 sweeps; docs/performance.md, "Frictional
+# flows"; 0.79 is there for the fit of ν_c). ξ_el from the dilute run(s)
 # at CH5_REFERENCE_NU, e = CH5_REFERENCE_E. Fig 5.1: a CH5_WINDOW_STEPS-step branch
 # (--frame-every 1) from the end of the runs at CH5_CLUSTER_NU for each CH5_CLUSTER_E.
 CH5_NU            := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780 0.790 0.800 0.810 0.820
 CH5_E             := 0.00 0.10 0.25 0.50 0.75 0.92
 CH5_MU            := 0.00 0.40
 CH5_FRICTION_E    := 0.00
-CH5_FRICTION_NU   := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780
+CH5_FRICTION_NU   := 0.300 0.500 0.600 0.700 0.740 0.760 0.770 0.780 0.790
 CH5_RATE          := $(CH4_RATE)
 CH5_SEED          := $(CH4_SEED)
 CH5_FROM_STRAIN   := 0.5
@@ -49,6 +50,9 @@ CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.790
 CH5_CLUSTER_E     := 0.92 0.00
 CH5_WINDOW_STEPS  := 2
+# ν_c(μ, e) from the divergence of p/γ̇² and s/γ̇² (jamming_point.py): the runs at ν >= this;
+# a (μ, e) group with fewer than 4 of them is listed, not fitted.
+CH5_JAMMING_FROM_NU := 0.700
 # Shear runs at μ = 0.4 for Fig 4.10 (right), around the incline's bulk ν (friction lowers it:
 # 0.785-0.790 at 19-21°; 0.790 brackets 20° and 21° and is 19°'s own ν within its ±0.002).
 # Cost grows fast: 0.780 32 sweeps per step, 0.790 61 (20 s of CPU); 0.800 is left out: 31 of

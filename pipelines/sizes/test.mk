@@ -32,6 +32,9 @@ CH5_REFERENCE_E   := 0.92
 CH5_CLUSTER_NU    := 0.700
 CH5_CLUSTER_E     := 0.92 0.00
 CH5_WINDOW_STEPS  := 10
+# ν_c(μ, e) from the divergence of p/γ̇² and s/γ̇² (jamming_point.py): the runs at ν >= this;
+# a (μ, e) group with fewer than 4 of them is listed, not fitted.
+CH5_JAMMING_FROM_NU := 0.700
 CH4_FRICTION_NU   := 0.700
 CH4_FRICTION_E    := 0.50
 CH4_INCLINE_NU    :=
