@@ -83,9 +83,15 @@
 
 namespace granflow {
 
+// The programs' default sweep caps (--max-iterations). With friction a step near jamming can
+// stall for 10⁴–10⁵ sweeps and still converge: its cluster passes succeed only once the
+// Gauss–Seidel iterate's contact states are nearly right (docs/method/solver.md).
+constexpr int kMaxIterations = 10000;
+constexpr int kMaxIterationsWithFriction = 100000;
+
 struct SolverSettings {
-  double tolerance = 1e-10;    // Υ·dt: a length per step
-  int max_iterations = 10000;  // Gauss–Seidel sweeps per step
+  double tolerance = 1e-10;             // Υ·dt: a length per step
+  int max_iterations = kMaxIterations;  // Gauss–Seidel sweeps per step
   // Smallest alert gap (a length); 0 selects 0.01 × the mean diameter. Each step uses
   // max(this, 2·dt·v_rel,max), a safe bound on the relative displacement in one step:
   // pairs farther apart can neither touch nor bind, so a larger floor adds rows that never

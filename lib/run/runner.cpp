@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
@@ -23,8 +24,11 @@ void add_contact_options(CommandLine& cli) {
                   "higher μ at high density may not converge (see --max-unconverged)",
                   "0");
   cli.real_option("tolerance", 0, "TOL", "solver tolerance: residual velocity × dt, a length (Υ = TOL/dt)", "1e-10");
-  cli.integer_option("max-iterations", 0, "N", "Gauss–Seidel sweeps per step before a step counts as unconverged",
-                     "10000");
+  cli.integer_option(
+      "max-iterations", 0, "N",
+      "Gauss–Seidel sweeps per step before a step counts as unconverged [default: " + std::to_string(kMaxIterations) +
+          ", with --friction > 0 " + std::to_string(kMaxIterationsWithFriction) +
+          ": frictional steps near jamming may take that long and converge]");
   cli.real_option("max-unconverged", 0, "F",
                   "largest share of the steps that may end unconverged (at --max-iterations); one more stops the run "
                   "with exit code 1 and no output",
@@ -59,8 +63,13 @@ SolverSettings solver_option(const CommandLine& cli) {
   SolverSettings settings;
   settings.tolerance = cli.real("tolerance");
   require_positive("tolerance", settings.tolerance);
-  settings.max_iterations = int(cli.integer("max-iterations"));
-  if (settings.max_iterations < 1) throw UsageError("option --max-iterations: must be >= 1");
+  if (cli.given("max-iterations")) {
+    const long long sweeps = cli.integer("max-iterations");
+    if (sweeps < 1 || sweeps > (1LL << 30)) throw UsageError("option --max-iterations: must be in [1, 2^30]");
+    settings.max_iterations = int(sweeps);
+  } else {
+    settings.max_iterations = cli.real("friction") > 0 ? kMaxIterationsWithFriction : kMaxIterations;
+  }
   settings.alert_distance = cli.real("alert-distance");
   settings.cluster_solves = !cli.flag_set("no-cluster-solves");
   const long long region_after = cli.integer("region-solve-after");
@@ -224,6 +233,8 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFi
   Engine engine(start.grains, start.box, start.rate, start.material, start.settings, start.dt, start.gravity);
   engine.restore(0, memory_of(start.contacts));
   io::Parameters parameters = io::provenance(cli);
+  // The cap in force, also when it is the default, which depends on the friction.
+  parameters.set("max-iterations", std::int64_t(start.settings.max_iterations));
   io::add_input(parameters, start.input_path);
   if (start.add_parameters) start.add_parameters(parameters);
   io::TrajectoryWriter writer(out.temp_path());

@@ -138,6 +138,36 @@ TEST(GfShearProvenance, StrainAndStrainStepAreTheOnesUsed) {
   EXPECT_DOUBLE_EQ(p.get_double("strain-step"), 2 * 1e-3);
 }
 
+// The default sweep cap depends on the friction (frictional steps near jamming converge only
+// after 10^4-10^5 sweeps); /parameters records the cap in force, given or not.
+TEST(GfShearProvenance, SweepCapRecordedAsUsed) {
+  ScratchDir dir("prov_sweep_cap");
+  const std::string base = "-i " + biperiodic() + " --rate 1 --steps 5 --quiet -o ";
+  const std::pair<std::string, std::int64_t> cases[] = {{"--friction 0", 10000},
+                                                        {"--friction 0.4", 100000},
+                                                        {"--friction 0.4 --max-iterations 300", 300},
+                                                        {"--friction 0 --max-iterations 20000", 20000}};
+  int k = 0;
+  for (const auto& [options, cap] : cases) {
+    const std::string out = dir / ("run" + std::to_string(k++) + ".h5");
+    auto r = run_tool("gf-shear", base + out + " " + options);
+    ASSERT_EQ(r.exit_code, 0) << options << ": " << r.err;
+    EXPECT_EQ(parameters_of(out).get_int("max-iterations"), cap) << options;
+  }
+  for (const char* bad : {"0", "-5", "2000000000"}) {
+    auto r = run_tool("gf-shear", base + (dir / "bad.h5") + " --friction 0.4 --max-iterations " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("--max-iterations"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.h5"));
+  }
+  // gf-incline takes the same rule.
+  const std::string branch = dir / "incline.h5";
+  auto r = run_tool("gf-incline",
+                    "-i " + incline() + " --angle 20 --friction 0.4 --steps 5 --profile-block 5 --quiet -o " + branch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(parameters_of(branch).get_int("max-iterations"), 100000);
+}
+
 TEST(GfInclineProvenance, BranchOfABranchNamesItsParent) {
   ScratchDir dir("prov_branch");
   const std::string run = " --steps 20 --profile-block 10 --quiet";

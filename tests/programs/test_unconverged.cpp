@@ -30,11 +30,12 @@ void expect_stopped(const ToolResult& r, const ScratchDir& dir) {
 
 }  // namespace
 
-// μ = 10 on a dense packing: (nearly) no step converges within the sweep cap.
+// μ = 10 on a dense packing: (nearly) no step converges within the sweep cap (given: the
+// frictional default, 10^5 sweeps, would take a minute or more to reach it twice).
 TEST(Unconverged, HighFrictionShearStopsWithExitOneAndLeavesNothing) {
   ScratchDir dir("unconverged_mu10");
-  auto r =
-      run_tool("gf-shear", "-i " + dense() + " -o " + (dir / "run.h5") + " --rate 0.01 --steps 100 --friction 10 -q");
+  auto r = run_tool("gf-shear", "-i " + dense() + " -o " + (dir / "run.h5") +
+                                    " --rate 0.01 --steps 100 --friction 10 --max-iterations 10000 -q");
   expect_stopped(r, dir);
 }
 
