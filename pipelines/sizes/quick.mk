@@ -32,7 +32,7 @@ SHEAR_LONG_FRAME_EVERY := 160
 # at ν = 0.8, the largest lag counted) keeps ξ measurable up to ν ≈ 0.8; the ν grid adds
 # the dilute end and the dense steps of Figs 5.2-5.3 (ν_c ≈ 0.845). Figs 5.3, 5.5-5.10 for
 # every e at μ = 0; Fig 5.4 at e = CH5_FRICTION_E for every μ over CH5_FRICTION_NU (frictional
-# runs cost more, growing towards their lower jamming point, ν_c ≈ 0.806 at μ = 0.4: 17 s of CPU
+# runs cost more, growing towards their lower jamming point, ν_c ≈ 0.805 at μ = 0.4: 17 s of CPU
 # at ν = 0.78, 46 sweeps per step, 38 s at 0.79, 107 sweeps; docs/performance.md, "Frictional
 # flows"; 0.79 is there for the fit of ν_c). ξ_el from the dilute run(s)
 # at CH5_REFERENCE_NU, e = CH5_REFERENCE_E. Fig 5.1: a CH5_WINDOW_STEPS-step branch
