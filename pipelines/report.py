@@ -11,6 +11,7 @@ import numpy as np
 from analysis import critical_angle as ca
 from analysis import d2min_maps
 from analysis import incline_bulk as ib
+from analysis import jamming_point
 from analysis import steady_state as ss
 from granflow_py import correlation_table as ct
 from granflow_py import kinetic_table as kt
@@ -726,7 +727,7 @@ def ch5_jamming_section(jamming_path):
     if len(skipped["friction"]):
         lines.append("")
         lines.append(
-            "Not fitted (fewer than 4 runs at ν ≥ " + f"{float(prm['from_nu']):g}): "
+            f"Not fitted (fewer than {jamming_point.MIN_POINTS} runs at ν ≥ {float(prm['from_nu']):g}): "
             + ", ".join(f"μ = {m:g}, e = {e:g} ({int(n)})"
                         for m, e, n in zip(skipped["friction"], skipped["restitution"], skipped["points"]))
             + "."

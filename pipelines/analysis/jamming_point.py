@@ -39,9 +39,9 @@ import os
 import shlex
 import sys
 
-import h5py
 import numpy as np
 
+from analysis import steady_state
 from granflow_py import outputs
 from granflow_py.hdf5 import sha256
 
@@ -154,27 +154,24 @@ def read_rows(paths):
     tables' rows, each run (input path) once."""
     groups, seen = {}, set()
     for path in paths:
-        with h5py.File(path, "r") as f:
-            if "steady" not in f or "runs" not in f:
-                raise ValueError(f"{path}: not a steady_state.py table (no /steady or /runs)")
-            runs, steady = f["runs"], f["steady"]
-            inputs = [s.decode() if isinstance(s, bytes) else str(s) for s in runs["input"][...]]
-            columns = {c: runs[c][...] for c in ("packing_fraction", "friction", "restitution")}
-            values = {}
-            for q in QUANTITIES:
-                if q not in steady:
-                    raise ValueError(f"{path}: no /steady/{q}")
-                values[q] = steady[q][...]
-                values[q + "_error"] = steady[q + "_error"][...]
-        for i, run in enumerate(inputs):
+        try:
+            table = steady_state.read_table(path)
+        except KeyError as exc:
+            raise ValueError(f"{path}: not a steady_state.py table ({exc})") from exc
+        runs, steady = table["runs"], table["steady"]
+        missing = [q for q in QUANTITIES if q not in steady]
+        if missing:
+            raise ValueError(f"{path}: no /steady/{missing[0]}")
+        for i, run in enumerate(runs["input"]):
             if run in seen:
                 continue
             seen.add(run)
-            key = (round(float(columns["friction"][i]), 6), round(float(columns["restitution"][i]), 6))
-            g = groups.setdefault(key, {"nu": [], **{k: [] for k in values}})
-            g["nu"].append(float(columns["packing_fraction"][i]))
-            for k, v in values.items():
-                g[k].append(float(v[i]))
+            key = (round(float(runs["friction"][i]), 6), round(float(runs["restitution"][i]), 6))
+            g = groups.setdefault(key, {"nu": [], **{k: [] for q in QUANTITIES for k in (q, q + "_error")}})
+            g["nu"].append(float(runs["packing_fraction"][i]))
+            for q in QUANTITIES:
+                g[q].append(float(steady[q][i]))
+                g[q + "_error"].append(float(steady[q + "_error"][i]))
     return groups
 
 

@@ -82,6 +82,8 @@ class FitTest(unittest.TestCase):
 def write_table(path, rows):
     """A table in steady_state.py's layout: rows of (input, ν, μ, e, p, s)."""
     with h5py.File(path, "w") as f:
+        f.create_group("parameters")
+        f.create_group("diagnostics")
         runs, steady = f.create_group("runs"), f.create_group("steady")
         runs["input"] = np.array([r[0] for r in rows], dtype=object).astype(h5py.string_dtype())
         for k, name in enumerate(("packing_fraction", "friction", "restitution"), start=1):
