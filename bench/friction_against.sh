@@ -11,7 +11,7 @@
 #   FILTER ['BM_Friction/1000/(700|760|780|800)/1/|BM_Friction/10000/(760|780)/1/']
 #                     cases run by both binaries (bench_friction's --benchmark_filter)
 #   ROUNDS [2]        alternations (old, new, old, new, ...); the best s/strain of each is kept
-#   BUILD [build]     this tree's Release build directory (bench_friction is built there)
+#   BUILD [build]     this tree's build directory (configured as Release if new; bench_friction is built there)
 #   OUT [build/friction-against]  the old sources, their build and raw outputs (never committed)
 # Each binary warms every (N, ν) up with its own default solver, so the two time the same steps
 # from statistically alike, not identical, states: the ratio carries that spread (about 10 %
@@ -43,7 +43,10 @@ fi
 log "building bench_friction of $COMMIT and of this tree"
 cmake -S "$SRC" -B "$OLD_BUILD" -DCMAKE_BUILD_TYPE=Release >"$OUT/build.log" 2>&1
 cmake --build "$OLD_BUILD" -j2 --target bench_friction >>"$OUT/build.log" 2>&1
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >>"$OUT/build.log" 2>&1
+# This tree's build is configured only if it is not yet: a user's build keeps its settings.
+[ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >>"$OUT/build.log" 2>&1
+grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$BUILD/CMakeCache.txt" ||
+  log "warning: $BUILD is not a Release build; its timings are not comparable"
 cmake --build "$BUILD" -j2 --target bench_friction >>"$OUT/build.log" 2>&1
 NEW_LABEL="$(git -C "$ROOT" rev-parse --short HEAD)$(git -C "$ROOT" diff --quiet HEAD -- lib bench || echo +)"
 
