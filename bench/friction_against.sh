@@ -12,7 +12,7 @@
 #                     cases run by both binaries (bench_friction's --benchmark_filter)
 #   ROUNDS [2]        alternations (old, new, old, new, ...); the best s/strain of each is kept
 #   BUILD [build]     this tree's build directory (configured as Release if new; bench_friction is built there)
-#   OUT [build/friction-against]  the old sources, their build and raw outputs (never committed)
+#   OUT [build/friction-against]  the old sources, their build, raw outputs and each run's stderr (never committed)
 # Each binary warms every (N, ν) up with its own default solver, so the two time the same steps
 # from statistically alike, not identical, states: the ratio carries that spread (about 10 %
 # at N = 10³, more at ν = 0.80), which is why the docs quote it as measured, not to the per cent.
@@ -57,7 +57,7 @@ for round in $(seq "$ROUNDS"); do
     if [ "$side" = old ]; then bin="$OLD_BUILD/bench/bench_friction" label="$COMMIT"
     else bin="$BUILD/bench/bench_friction" label="$NEW_LABEL"; fi
     log "round $round: $label"
-    "$bin" --benchmark_filter="$FILTER" 2>/dev/null | tee "$OUT/$side-$round.txt" |
+    "$bin" --benchmark_filter="$FILTER" 2>"$OUT/$side-$round.err" | tee "$OUT/$side-$round.txt" |
       awk -v label="$side" -v round="$round" '/^BM_Friction\// {
         s = ""; w = ""
         for (i = 2; i <= NF; ++i) {
