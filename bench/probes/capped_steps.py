@@ -8,9 +8,9 @@ answers two linear programs per step (HiGHS, through SciPy):
   feasible  the least t such that some impulses within the Coulomb cones (P_n >= 0,
             |P_t| <= mu P_n) give u_n >= b_n - t on every row; 0 when the normal
             constraints can all be met. Necessary for a solution.
-  work      the least work -(P_n b_n + P_t b_t), per unit of sum P_n, of a self-stress
+  work      the work -(P_n b_n + P_t b_t), per unit of its sum P_n, of the self-stress
             within the cones (impulses, 0 <= P_n <= 1, with no net impulse or torque on any
-            grain); 0 when none does negative work. Then the step's linear complementarity
+            grain) that does the least work; 0 when none does negative work. Then the step's linear complementarity
             problem (the region solves' form, docs/method/solver.md) has a solution: its
             matrix is copositive (Anitescu & Potra 1997) and every solution of the
             homogeneous problem is such a self-stress, so Cottle, Pang & Stone's
@@ -78,7 +78,7 @@ def analyse(name):
     P_now = np.empty(2 * n_rows)
     P_now[0::2], P_now[1::2] = rows[:, 7], rows[:, 8]
     v_free = bodies[:, :3].reshape(-1) - inv_mass * (H @ P_now)
-    # u_n of each row: (v_i - v_j)·n, the rows of H's normal columns transposed.
+    # u_n of each row: (v_i - v_j)·n.
     i, j = rows[:, 0].astype(int), rows[:, 1].astype(int)
     k = np.arange(n_rows)
     N = sp.csr_matrix((np.concatenate([rows[:, 2], rows[:, 3], -rows[:, 2], -rows[:, 3]]),
