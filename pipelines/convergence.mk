@@ -1,0 +1,83 @@
+# The convergence study: every observable of the reproduction against the strain step γ̇dt
+# (results: docs/results/convergence.md). The grid is the file $(CONVERGENCE) (default
+# pipelines/sizes/convergence.mk), independent of SIZE; its runs go to $(CONV_RUNS).
+#
+# Runs: $(CONV_RUNS)/conv_n<N>_nu<ν>_e<e>_mu<μ>_dt<γ̇dt>_tol<tolerance>_s<seed>.h5, gf-shear from
+# the packing $(CONV_RUNS)/pack_n<N>_nu<ν>_s<seed>.h5, CONV_STRAIN strain units, an observable row
+# every CONV_OBSERVE_STRAIN and a frame every CONV_FRAME_STRAIN of strain. Any such name can be
+# asked for. Per run, its own tables (so that adding a step or a point analyses only the new runs):
+# steady_<stem> (steady_state.py: p, s/p, T, p^s, p^k), correlate_<stem> (gf-correlate, ξ_el from
+# the reference point's run at the same N and step), network_<stem> (gf-network with that table)
+# and kinetic_<stem> (gf-kinetic: p^bc, C_v). The summary, convergence.h5 and convergence.md
+# (pipelines/analysis/convergence.py): per state point and observable, the values against the
+# step and the class (converged, converging with its limit, regularisation-dependent with its
+# exponent, or unsettled).
+CONVERGENCE ?= pipelines/sizes/convergence.mk
+include $(CONVERGENCE)
+CONV_RUNS ?= runs/convergence
+
+ifneq ($(filter convergence convergence-files,$(MAKECMDGOALS)),)
+ifeq ($(word 2,$(CONV_STEPS)),)
+$(error $(CONVERGENCE): CONV_STEPS needs at least two strain steps (got '$(strip $(CONV_STEPS))'))
+endif
+ifeq ($(filter $(CONV_DEFAULT_STEP),$(CONV_STEPS)),)
+$(error $(CONVERGENCE): CONV_DEFAULT_STEP ($(CONV_DEFAULT_STEP)) is not one of CONV_STEPS)
+endif
+ifeq ($(strip $(CONV_POINTS)),)
+$(error $(CONVERGENCE): CONV_POINTS is empty)
+endif
+ifneq ($(words $(CONV_REFERENCE)),1)
+$(error $(CONVERGENCE): CONV_REFERENCE must be one point ν:e:μ (got '$(strip $(CONV_REFERENCE))'))
+endif
+endif
+
+# Word $(2) of a point "ν:e:μ".
+conv_part = $(word $(2),$(subst :, ,$(1)))
+# Run of point $(2) at N = $(1), step $(3), tolerance $(4).
+conv_run = $(CONV_RUNS)/conv_n$(1)_nu$(call conv_part,$(2),1)_e$(call conv_part,$(2),2)_mu$(call conv_part,$(2),3)_dt$(3)_tol$(4)_s$(CONV_SEED).h5
+# Runs of the points $(2) at N = $(1), each step of $(3), each tolerance of $(4).
+conv_grid = $(foreach p,$(2),$(foreach d,$(3),$(foreach t,$(4),$(call conv_run,$(1),$(p),$(d),$(t)))))
+CONV_SIM := $(call conv_grid,$(CONV_GRAINS),$(CONV_POINTS) $(CONV_REFERENCE),$(CONV_STEPS),$(CONV_TOLERANCE)) \
+            $(call conv_grid,$(CONV_GRAINS),$(if $(CONV_FINE_STEPS),$(CONV_FINE_POINTS) $(CONV_REFERENCE)),$(CONV_FINE_STEPS),$(CONV_TOLERANCE)) \
+            $(if $(CONV_LARGE_GRAINS),$(call conv_grid,$(CONV_LARGE_GRAINS),$(CONV_LARGE_POINTS) $(CONV_REFERENCE),$(CONV_LARGE_STEPS),$(CONV_TOLERANCE))) \
+            $(call conv_grid,$(CONV_GRAINS),$(if $(CONV_OTHER_TOLERANCES),$(CONV_TOLERANCE_POINT)),$(CONV_TOLERANCE_STEP),$(CONV_OTHER_TOLERANCES))
+CONV_SIM := $(sort $(CONV_SIM))
+CONV_STEMS := $(patsubst $(CONV_RUNS)/conv_n%.h5,%,$(CONV_SIM))
+CONV_TABLES := $(foreach k,steady correlate network kinetic,$(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
+CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md
+CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
+
+convergence-files: $(CONV_SUMMARY)
+
+# Stem "<N>_nu<ν>_e<e>_mu<μ>_dt<γ̇dt>_tol<tol>_s<seed>": word $(2) split at "_", prefix $(1) removed.
+conv_arg = $(patsubst $(1)%,%,$(word $(2),$(subst _, ,$(3))))
+# Steps between rows (frames) for a strain interval $(1) at step $(2): the nearest integer, at least 1.
+conv_every = $$(awk 'BEGIN { k = int($(1) / $(2) + 0.5); print (k < 1 ? 1 : k) }')
+# The reference run at the N and step of stem $(1) (default tolerance).
+conv_reference = $(CONV_RUNS)/conv_n$(call conv_arg,,1,$(1))_nu$(call conv_part,$(CONV_REFERENCE),1)_e$(call conv_part,$(CONV_REFERENCE),2)_mu$(call conv_part,$(CONV_REFERENCE),3)_$(call conv_arg,,5,$(1))_tol$(CONV_TOLERANCE)_$(call conv_arg,,7,$(1)).h5
+
+$(CONV_RUNS)/pack_n%.h5: $(STAMPS)/gf-pack.stamp | $(CONV_RUNS)/
+	$(LAUNCH) $(BIN)/gf-pack --quiet --grains $(call conv_arg,,1,$*) --packing-fraction $(call conv_arg,nu,2,$*) \
+	  --seed $(call conv_arg,s,3,$*) -o $@
+$(CONV_RUNS)/conv_n%.h5: $(CONV_RUNS)/pack_n$$(call conv_arg,,1,$$*)_$$(call conv_arg,,2,$$*)_$$(call conv_arg,,7,$$*).h5 \
+                         $(STAMPS)/gf-shear.stamp | $(CONV_RUNS)/
+	$(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< -o $@ --rate $(CONV_RATE) \
+	  --restitution $(call conv_arg,e,3,$*) --friction $(call conv_arg,mu,4,$*) --seed $(call conv_arg,s,7,$*) \
+	  --strain $(CONV_STRAIN) --strain-step $(call conv_arg,dt,5,$*) --tolerance $(call conv_arg,tol,6,$*) \
+	  --observe-every $(call conv_every,$(CONV_OBSERVE_STRAIN),$(call conv_arg,dt,5,$*)) \
+	  --frame-every $(call conv_every,$(CONV_FRAME_STRAIN),$(call conv_arg,dt,5,$*))
+
+$(CONV_RUNS)/steady_n%.h5: $(CONV_RUNS)/conv_n%.h5 pipelines/analysis/steady_state.py $(STATISTICS_STAMP) $(CONV_ANALYSIS)
+	$(PYTHON) pipelines/analysis/steady_state.py --from-strain $(CONV_FROM_STRAIN) --detect-transient -o $@ $<
+$(CONV_RUNS)/correlate_n%.h5: $(CONV_RUNS)/conv_n%.h5 $$(call conv_reference,$$*) $(STAMPS)/gf-correlate.stamp $(CONV_ANALYSIS)
+	$(LAUNCH) $(BIN)/gf-correlate --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient \
+	  --reference $(call conv_reference,$*) $<
+$(CONV_RUNS)/network_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(CONV_RUNS)/correlate_n%.h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
+	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient \
+	  --correlation $(CONV_RUNS)/correlate_n$*.h5 $<
+$(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $(CONV_ANALYSIS)
+	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient $<
+
+$(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS_STAMP) $(CONV_ANALYSIS) | $(CONV_RUNS)/
+	$(PYTHON) pipelines/analysis/convergence.py --default-step $(CONV_DEFAULT_STEP) \
+	  --reference $(CONV_REFERENCE) -o $(CONV_RUNS)/convergence.h5 --markdown $(CONV_RUNS)/convergence.md $(CONV_TABLES)

@@ -1,0 +1,194 @@
+"""convergence.py: the classes on constructed series with known answers, and the convergence
+study's make target end to end on a tiny grid (and its refusal of a grid with one step)."""
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+from analysis import convergence
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+STEPS = np.array([2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4])
+
+
+def noisy(values, relative, seed):
+    rng = np.random.default_rng(seed)
+    errors = relative * np.abs(values)
+    return values + errors * rng.standard_normal(len(values)), errors
+
+
+class ClassifyTest(unittest.TestCase):
+    def test_chi2_probability_known_quantiles(self):
+        for chi2, dof, p in ((3.841, 1, 0.05), (9.210, 2, 0.01), (7.815, 3, 0.05), (11.070, 5, 0.05), (2.0, 4, 0.7358)):
+            self.assertAlmostEqual(convergence.chi2_probability(chi2, dof), p, delta=2e-4)
+
+    def test_flat_series_is_converged(self):
+        q, s = noisy(np.full(5, 0.29), 0.003, 1)
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertEqual(c["class"], "converged")
+        self.assertEqual(c["steps"], 5)
+        self.assertAlmostEqual(c["span"], 16.0)
+
+    def test_linear_approach_gives_its_limit(self):
+        # Q = 2 + 300 h: 0.26 (13 %) between the default and the finest step, limit 2.
+        q = 2 + 300 * STEPS
+        c = convergence.classify(STEPS, q, np.full(5, 1e-3), 1e-3)
+        self.assertEqual(c["class"], "converging")
+        self.assertAlmostEqual(c["limit"], 2.0, delta=3 * c["limit_error"] + 1e-3)
+        self.assertAlmostEqual(c["limit_exponent"], 1.0, delta=0.05)
+        # 1 % of 2 is 0.02 = 300 h: h = 6.7e-5.
+        self.assertAlmostEqual(c["step_1pct"], 0.02 / 300, delta=0.1 * 0.02 / 300)
+
+    def test_square_root_approach_from_below(self):
+        q = -1.5 - 20 * np.sqrt(STEPS)
+        q, s = noisy(q, 1e-4, 2)
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertEqual(c["class"], "converging")
+        self.assertLess(abs(c["limit"] + 1.5), 3 * c["limit_error"] + 1e-3)
+        self.assertAlmostEqual(c["limit_exponent"], 0.5, delta=0.1)
+
+    def test_pure_power_is_regularisation_dependent(self):
+        # z ∝ h^0.45 with 2 % errors: no limit told from 0 over a factor of 16.
+        q, s = noisy(40 * STEPS**0.45, 0.02, 3)
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertEqual(c["class"], "regularisation-dependent")
+        self.assertAlmostEqual(c["exponent"], 0.45, delta=3 * c["exponent_error"])
+        self.assertLess(c["exponent_error"], 0.1)
+
+    def test_pure_power_over_a_short_span_is_unsettled(self):
+        steps = STEPS[:3]  # a factor of 4 only
+        q, s = noisy(40 * steps**0.45, 0.02, 3)
+        c = convergence.classify(steps, q, s, 1e-3)
+        self.assertEqual(c["class"], "unsettled")
+
+    def test_two_steps_apart_are_unsettled(self):
+        c = convergence.classify([1e-3, 5e-4], [1.0, 1.2], [0.01, 0.01], 1e-3)
+        self.assertEqual(c["class"], "unsettled")
+        self.assertEqual(convergence.class_text(c), "unsettled (too few steps)")
+
+    def test_one_percent_rule_without_errors(self):
+        c = convergence.classify([1e-3, 5e-4, 2.5e-4], [1.009, 1.004, 1.0], [math.nan] * 3, 1e-3)
+        self.assertEqual(c["class"], "converged")
+        c = convergence.classify([1e-3, 5e-4, 2.5e-4], [1.02, 1.01, 1.0], [math.nan] * 3, 1e-3)
+        self.assertNotEqual(c["class"], "converged")
+
+    def test_scatter_beyond_the_errors_is_not_a_fit(self):
+        q = np.array([1.0, 1.3, 0.9, 1.4, 0.8])
+        c = convergence.classify(STEPS, q, np.full(5, 0.01), 1e-3)
+        self.assertEqual(c["class"], "unsettled")
+        self.assertTrue(math.isnan(c["limit"]))
+
+    def test_nan_values_are_left_out(self):
+        q = 2 + 300 * STEPS
+        q[1] = math.nan
+        c = convergence.classify(STEPS, q, np.full(5, 1e-3), 1e-3)
+        self.assertEqual(c["steps"], 4)
+        self.assertTrue(math.isnan(c["default_value"]))
+
+
+GRID = """CONV_POINTS       := 0.700:0.50:0.00
+CONV_REFERENCE    := 0.500:0.92:0.00
+CONV_STEPS        := {steps}
+CONV_DEFAULT_STEP := 1e-3
+CONV_GRAINS       := 64
+CONV_FINE_POINTS  :=
+CONV_FINE_STEPS   :=
+CONV_LARGE_GRAINS :=
+CONV_LARGE_POINTS :=
+CONV_LARGE_STEPS  :=
+CONV_TOLERANCE         := 1e-10
+CONV_TOLERANCE_POINT   := 0.700:0.50:0.00
+CONV_TOLERANCE_STEP    := 1e-3
+CONV_OTHER_TOLERANCES  := 1e-8
+CONV_STRAIN        := 0.3
+CONV_RATE          := 1
+CONV_SEED          := 1
+CONV_FROM_STRAIN   := 0.05
+CONV_OBSERVE_STRAIN := 2e-3
+CONV_FRAME_STRAIN  := 2e-3
+"""
+
+
+@unittest.skipUnless(
+    os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-shear")),
+    "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it",
+)
+class ConvergenceMakeTest(unittest.TestCase):
+    """make convergence-files on a 64-grain grid: two points, three steps, one more tolerance."""
+
+    def make(self, d, steps, *extra):
+        # Written once: a newer grid or stamp would make every table out of date.
+        grid = os.path.join(d, "grid.mk")
+        if not os.path.exists(grid):
+            with open(grid, "w") as fh:
+                fh.write(GRID.format(steps=steps))
+        stamps = os.path.join(d, "stamps")
+        if not os.path.exists(stamps):
+            os.makedirs(stamps)
+            for prog in ("gf-pack", "gf-shear", "gf-correlate", "gf-network", "gf-kinetic", "libgranflow_statistics.so"):
+                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
+                    fh.write("0\n")
+        cmd = [
+            "make", "--no-print-directory", "-f", "Makefile.sweeps", f"BIN={os.environ['GRANFLOW_BIN']}",
+            f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
+            *extra, "convergence-files",
+        ]
+        return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+
+    def test_tiny_study(self):
+        import h5py
+
+        with tempfile.TemporaryDirectory() as d:
+            res = self.make(d, "2e-3 1e-3 5e-4")
+            self.assertEqual(res.returncode, 0, res.stdout + res.stderr)
+            with h5py.File(f"{d}/runs/convergence.h5", "r") as f:
+                steps = f["series/step"][()]
+                tol = f["series/tolerance"][()]
+                nu = f["series/packing_fraction"][()]
+                obs = [o.decode() if isinstance(o, bytes) else o for o in f["series/observable"][()]]
+                self.assertEqual(sorted(set(np.round(steps, 12))), [5e-4, 1e-3, 2e-3])
+                # The extra tolerance is a series of its own at one step.
+                self.assertEqual(sorted(set(steps[tol == 1e-8])), [1e-3])
+                self.assertEqual(sorted(set(np.round(nu, 3))), [0.5, 0.7])
+                for key in ("p", "s_over_p", "z", "xi", "p_bc", "C_v"):
+                    self.assertIn(key, obs)
+                classes = [c.decode() if isinstance(c, bytes) else c for c in f["classes/class"][()]]
+                self.assertTrue(set(classes) <= {"converged", "converging", "regularisation-dependent", "unsettled"})
+                cobs = [o.decode() if isinstance(o, bytes) else o for o in f["classes/observable"][()]]
+                self.assertIn("xi_el", [o for o, n in zip(cobs, f["classes/packing_fraction"][()]) if n == 0.5])
+                # The default step's value in the classes is the series' own.
+                k = cobs.index("s_over_p")
+                row = (np.isclose(nu, f["classes/packing_fraction"][k])) & (steps == 1e-3) & (tol == 1e-10)
+                sp = [v for v, o in zip(f["series/value"][()][row], np.array(obs)[row]) if o == "s_over_p"]
+                self.assertEqual(sp, [f["classes/default_value"][k]])
+            with open(f"{d}/runs/convergence.md") as fh:
+                md = fh.read()
+            self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-10", md)
+            self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-08", md)
+            self.assertIn("γ̇dt = 0.001 (default)", md)
+            # Nothing left to do.
+            q = self.make(d, "2e-3 1e-3 5e-4", "-q")
+            self.assertEqual(q.returncode, 0, q.stdout + q.stderr)
+
+    def test_grid_with_one_step_is_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            res = self.make(d, "1e-3")
+            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
+            lines = [l for l in res.stderr.splitlines() if l.strip()]
+            self.assertEqual(len(lines), 1, res.stderr)
+            self.assertIn("CONV_STEPS needs at least two strain steps", lines[0])
+            self.assertFalse(os.path.exists(f"{d}/runs"))
+
+    def test_default_step_outside_the_grid_is_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            res = self.make(d, "2e-3 5e-4")
+            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
+            self.assertIn("CONV_DEFAULT_STEP", res.stderr)
+            self.assertFalse(os.path.exists(f"{d}/runs"))
+
+
+if __name__ == "__main__":
+    unittest.main()
