@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
     cli.flag("detect-transient", 0,
              "start each run later than --from-strain where its own transient ends: MSER on 100 block means of "
              "its T and p (the rule of gf-kinetic and gf-correlate)");
+    cli.real_option("contact-gap", 0, "H",
+                    "count geometric contacts instead of force-bearing ones: pairs whose gap at a frame's positions is "
+                    "at most H mean diameters, long-lived when within it one step earlier too (thesis App. A.1; H >= 0; "
+                    "F_bc of a contact is its pair's recorded one, 0 if it bore no force)");
     cli.integer_option("angle-bins", 0, "K", "bins of the contact angle theta over [0, pi) (>= 4)", "36");
     cli.integer_option("deflection-bins", 0, "D", "bins of the deflection |x| over [0, pi] (>= 4)", "36");
     cli.integer_option("blocks", 0, "B",
@@ -65,6 +69,10 @@ int main(int argc, char** argv) {
     if (cli.given("correlation")) {
       s.correlation = cli.text("correlation");
       if (s.correlation.empty()) throw UsageError("option --correlation: no file given");
+    }
+    if (cli.given("contact-gap")) {
+      s.contact_gap = cli.real("contact-gap");
+      require_in_range("contact-gap", s.contact_gap, 0, 1, false, false);
     }
     s.quiet = cli.flag_set("quiet");
 

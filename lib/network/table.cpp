@@ -14,6 +14,7 @@
 #include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
+#include "network/geometric_contacts.hpp"
 #include "network/network.hpp"
 #include "statistics/delta.hpp"
 
@@ -164,11 +165,20 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   std::vector<Histograms> block(blocks, Histograms(settings.angle_bins, settings.deflection_bins));
   std::vector<FrameSums> sums;
   FrameAnalyser analyser;
+  const bool geometric = !std::isnan(settings.contact_gap);
+  std::vector<double> radius;
+  double gap = 0;
+  if (geometric) {
+    radius = o.reader.grains().radius;
+    gap = settings.contact_gap * 2 * mean(radius);
+  }
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const io::Frame frame = o.reader.frame(frames[k]);
     if (!frame.has_contacts) throw bad("frame " + std::to_string(frames[k]) + " has no contacts stored");
     try {
-      sums.push_back(analyser.analyse(frame.contacts, n, &block[k * blocks / frames.size()]));
+      const ContactRecords contacts =
+          geometric ? geometric_contacts(frame, radius, gap, r["dt"], o.rate) : ContactRecords{};
+      sums.push_back(analyser.analyse(geometric ? contacts : frame.contacts, n, &block[k * blocks / frames.size()]));
     } catch (const std::invalid_argument& e) {
       throw bad("/contacts of frame " + std::to_string(frames[k]) + ": " + e.what());
     }
@@ -371,8 +381,12 @@ std::vector<Column> run_columns() {
       {"dt", "time", "time step (the run's /parameters)"},
       {"first_strain", "1", "shear strain of the first observable row of the window"},
       {"last_strain", "1", "shear strain of the last observable row of the window"},
-      {"contacts", "1", "contacts (P_n > 0) per frame, window mean"},
-      {"long_lived", "1", "long-lived contacts (age >= 2: in contact in this step and the previous one) per frame"},
+      {"contacts", "1",
+       "contacts per frame, window mean: force-bearing (P_n > 0), or with contact_gap in /parameters geometric "
+       "(gap <= contact_gap mean diameters at the frame's positions)"},
+      {"long_lived", "1",
+       "long-lived contacts (age >= 2: in contact in this step and the previous one; geometric: within the gap at "
+       "the frame and one step earlier) per frame"},
       {"coordination", "1", "z = 2 long_lived / N over all grains (ratio of window means)"},
       {"coordination_active", "1",
        "z over the grains with at least one long-lived contact: 2 long_lived / those grains"},

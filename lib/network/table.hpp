@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct TableSettings {
   std::size_t angle_bins = 36, deflection_bins = 36, blocks = 10;
   std::string correlation;  // gf-correlate table with --reference; empty: no prediction
   bool signed_xi = false;   // --xi signed: xi_ratio instead of xi_abs_ratio
+  // --contact-gap: geometric contacts (geometric_contacts.hpp) within this gap, in mean
+  // diameters, instead of the force-bearing ones; NaN: force-bearing (the default).
+  double contact_gap = std::numeric_limits<double>::quiet_NaN();
   bool quiet = false;
 };
 

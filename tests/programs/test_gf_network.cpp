@@ -113,6 +113,50 @@ TEST(GfNetwork, CoordinationCountsTheContactsOfTwoConsecutiveFramesOnce) {
   EXPECT_NEAR(read_doubles(out, "/runs/coordination")[0], 2 * counted / (n * frames), 1e-12);
 }
 
+// --contact-gap against consecutive stored frames: a contact is a pair within the gap at a
+// frame's positions (brute force over all pairs, minimum image), long-lived when within it in
+// the frame of the step before too; gf-network takes the step before from the frame alone.
+TEST(GfNetwork, GeometricContactsMatchConsecutiveFrames) {
+  const std::string& run = every_step_run();
+  ScratchDir dir("network_geometric");
+  io::TrajectoryReader reader(run);
+  const std::vector<double> radius = reader.grains().radius;
+  double mean_diameter = 0;
+  for (double r : radius) mean_diameter += 2 * r / double(radius.size());
+  for (const double h : {1e-4, 1e-2}) {
+    const std::string out = dir / ("out" + std::to_string(h) + ".h5");
+    auto r = run_tool("gf-network", run + " -o " + out + " --from-strain 0.01 --contact-gap " + std::to_string(h) +
+                                        " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const double gap = h * mean_diameter;
+    auto within = [&](const io::Frame& f) {
+      PairSet s;
+      for (std::size_t i = 0; i < radius.size(); ++i)
+        for (std::size_t j = i + 1; j < radius.size(); ++j)
+          if (f.box.minimum_image(f.position[i] - f.position[j]).norm() - radius[i] - radius[j] <= gap)
+            s.insert({std::int32_t(i), std::int32_t(j)});
+      return s;
+    };
+    const std::vector<std::int64_t> steps = reader.frame_steps();
+    double contacts = 0, long_lived = 0, frames = 0;
+    PairSet before = within(reader.frame(9));
+    for (std::size_t k = 10; k < steps.size(); ++k) {
+      ASSERT_EQ(steps[k], steps[k - 1] + 1);
+      const PairSet now = within(reader.frame(k));
+      PairSet both;
+      std::set_intersection(now.begin(), now.end(), before.begin(), before.end(), std::inserter(both, both.end()));
+      contacts += double(now.size());
+      long_lived += double(both.size());
+      frames += 1;
+      before = now;
+    }
+    EXPECT_GT(long_lived, 0) << "no geometric contact lasts: the test shows nothing";
+    EXPECT_EQ(read_ints(out, "/runs/frames")[0], std::int32_t(frames));
+    EXPECT_NEAR(read_doubles(out, "/runs/contacts")[0], contacts / frames, 1e-12 * contacts);
+    EXPECT_NEAR(read_doubles(out, "/runs/long_lived")[0], long_lived / frames, 1e-12 * long_lived);
+  }
+}
+
 // A dilute flow may hold no long-lived contact at all: that is a measurement (z = 0), not bad
 // input; what needs such contacts is NaN, the stresses are still measured.
 TEST(GfNetwork, RunWithoutLongLivedContactsHasZeroCoordinationAndNaNDeflections) {
@@ -380,6 +424,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"angle_bins_too_few", "{run} -o {out} --from-strain 0 --angle-bins 3", "--angle-bins"},
         BadInput{"deflection_bins_too_few", "{run} -o {out} --from-strain 0 --deflection-bins 2", "--deflection-bins"},
         BadInput{"blocks_too_few", "{run} -o {out} --from-strain 0 --blocks 1", "--blocks"},
+        BadInput{"contact_gap_negative", "{run} -o {out} --from-strain 0 --contact-gap -1e-3", "--contact-gap"},
+        BadInput{"contact_gap_above_one", "{run} -o {out} --from-strain 0 --contact-gap 2", "--contact-gap"},
+        BadInput{"contact_gap_not_a_number", "{run} -o {out} --from-strain 0 --contact-gap nan", "--contact-gap"},
         BadInput{"from_strain_negative", "{run} -o {out} --from-strain -1", "--from-strain"},
         BadInput{"no_input", "-o {out}", "missing RUN.h5"}, BadInput{"missing_output", "{run}", "--output"},
         BadInput{"unknown_option", "{run} -o {out} --bogus", "--bogus"},
