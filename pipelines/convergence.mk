@@ -8,7 +8,8 @@
 # asked for. Per run, its own tables (so that adding a step or a point analyses only the new runs):
 # steady_<stem> (steady_state.py: p, s/p, T, p^s, p^k), correlate_<stem> (gf-correlate, ξ_el from
 # the reference point's run at the same N and step), network_<stem> (gf-network with that table)
-# and kinetic_<stem> (gf-kinetic: p^bc, C_v). The summary, convergence.h5 and convergence.md
+# kinetic_<stem> (gf-kinetic: C_v, collisions) and network_gap<H>_<stem> (gf-network over geometric
+# contacts within H mean diameters, each H of CONV_CONTACT_GAPS). The summary, convergence.h5 and convergence.md
 # (pipelines/analysis/convergence.py): per state point and observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
 # exponent, or unsettled).
@@ -43,7 +44,8 @@ CONV_SIM := $(call conv_grid,$(CONV_GRAINS),$(CONV_POINTS) $(CONV_REFERENCE),$(C
             $(call conv_grid,$(CONV_GRAINS),$(if $(CONV_OTHER_TOLERANCES),$(CONV_TOLERANCE_POINT)),$(CONV_TOLERANCE_STEP),$(CONV_OTHER_TOLERANCES))
 CONV_SIM := $(sort $(CONV_SIM))
 CONV_STEMS := $(patsubst $(CONV_RUNS)/conv_n%.h5,%,$(CONV_SIM))
-CONV_TABLES := $(foreach k,steady correlate network kinetic,$(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
+CONV_TABLES := $(foreach k,steady correlate network kinetic $(CONV_CONTACT_GAPS:%=network_gap%),\
+                 $(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
 CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
 
@@ -75,6 +77,13 @@ $(CONV_RUNS)/correlate_n%.h5: $(CONV_RUNS)/conv_n%.h5 $$(call conv_reference,$$*
 $(CONV_RUNS)/network_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(CONV_RUNS)/correlate_n%.h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
 	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient \
 	  --correlation $(CONV_RUNS)/correlate_n$*.h5 $<
+# Over geometric contacts within H mean diameters (gf-network --contact-gap H), one rule per H.
+define conv_network_gap
+$(CONV_RUNS)/network_gap$(1)_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(CONV_RUNS)/correlate_n%.h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
+	$$(LAUNCH) $$(BIN)/gf-network --quiet -o $$@ --from-strain $$(CONV_FROM_STRAIN) --detect-transient \
+	  --contact-gap $(1) --correlation $$(CONV_RUNS)/correlate_n$$*.h5 $$<
+endef
+$(foreach h,$(CONV_CONTACT_GAPS),$(eval $(call conv_network_gap,$(h))))
 $(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $(CONV_ANALYSIS)
 	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient $<
 

@@ -70,8 +70,11 @@ OBSERVABLES = (
     ("C_v", "C_v (eq. 6.11)", "gf-kinetic", "runs/velocity_correlation", "runs/velocity_correlation_error", 0),
     ("omega", "collisions/(grain γ̇)", "gf-kinetic", "runs/collision_frequency", "runs/collision_frequency_error", 1),
 )
+# Of a gf-network table made with --contact-gap H (geometric contacts): these, as "<key>@H".
+GEOMETRIC_KEYS = ("z", "Phi", "Psi", "a_c")
 # On the reference point: ξ_el itself.
 REFERENCE_OBSERVABLES = (("xi_el", "ξ_el", "gf-correlate", "correlation/xi_el", "correlation/xi_el_error", 0),)
+REFERENCE_KEYS = {o[0] for o in REFERENCE_OBSERVABLES}
 
 ALPHA_GRID = np.linspace(0.25, 2.0, 71)
 # A fit is acceptable unless its χ² is this improbable.
@@ -262,20 +265,47 @@ def run_key(run_path, cache):
     return cache[run_path]
 
 
+def geometric_observables(gap):
+    """The GEOMETRIC_KEYS of a gf-network table over geometric contacts within `gap` mean diameters."""
+    return tuple(
+        (f"{key}@{gap:g}", f"{label}, gap {gap:g}σ", prog, name, error, power)
+        for key, label, prog, name, error, power in OBSERVABLES
+        if key in GEOMETRIC_KEYS
+    )
+
+
+def all_observables(rows):
+    """Every observable of the tables, in OBSERVABLES order, the geometric ones after their force-bearing
+    counterpart (by increasing gap)."""
+    present = {obs for entry in rows.values() for obs in entry}
+    gaps = sorted({float(o.split("@")[1]) for o in present if "@" in o})
+    result = []
+    for item in OBSERVABLES + REFERENCE_OBSERVABLES:
+        result.append(item)
+        if item[0] in GEOMETRIC_KEYS:
+            result.extend(o for g in gaps for o in geometric_observables(g) if o[0] == f"{item[0]}@{g:g}")
+    return result
+
+
 def read_rows(paths):
     """{(grains, ν, e, μ, tol, step): {observable key: (value, error)}} over every table."""
     cache = {}
     rows = {}
     for path in paths:
         with h5py.File(path, "r") as f:
-            program = read_attrs(f["parameters"]).get("program", "")
+            parameters = read_attrs(f["parameters"])
+            program = parameters.get("program", "")
+            gap = parameters.get("contact-gap")
+            observables = OBSERVABLES + REFERENCE_OBSERVABLES
+            if gap is not None:
+                observables = geometric_observables(float(gap))
             inputs = read_dataset(f["runs/input"])
             base = os.path.dirname(os.path.abspath(path))
             for i, run in enumerate(inputs):
                 run_path = run if os.path.isabs(run) or os.path.exists(run) else os.path.join(base, run)
                 *key, rate = run_key(run_path, cache)
                 entry = rows.setdefault(tuple(key), {})
-                for obs, _label, prog, name, error, power in OBSERVABLES + REFERENCE_OBSERVABLES:
+                for obs, _label, prog, name, error, power in observables:
                     if prog != program or name not in f:
                         continue
                     value = float(np.atleast_1d(f[name][()])[i]) / rate**power
@@ -312,7 +342,7 @@ def class_text(c):
     return "unsettled"
 
 
-def markdown(series, classes, default_step, tolerance):
+def markdown(series, classes, default_step, tolerance, observables):
     lines = []
     points = sorted({(k[1], k[2], k[3], k[0]) for k in series})
     for nu, e, mu, grains in points:
@@ -332,8 +362,8 @@ def markdown(series, classes, default_step, tolerance):
                 head.append("class")
             lines.append("| " + " | ".join(head) + " |")
             lines.append("|" + "---|" * len(head))
-            labels = {o[0]: o[1] for o in OBSERVABLES + REFERENCE_OBSERVABLES}
-            for obs in [o[0] for o in OBSERVABLES + REFERENCE_OBSERVABLES]:
+            labels = {o[0]: o[1] for o in observables}
+            for obs in [o[0] for o in observables]:
                 cells = [series[key][h].get(obs) for h in steps]
                 if all(c is None for c in cells):
                     continue
@@ -373,6 +403,7 @@ def main():
         print(f"convergence.py: {err}", file=sys.stderr)
         return 2
 
+    observables = all_observables(rows)
     # series[(grains, ν, e, μ, tol)][step] = {observable: (value, error)}
     series = {}
     for (grains, nu, e, mu, tol, step), obs in rows.items():
@@ -393,8 +424,9 @@ def main():
             continue
         key = (best, nu, e, mu, args.tolerance)
         per_obs = {}
-        observables = OBSERVABLES + (REFERENCE_OBSERVABLES if (nu, e, mu) == reference else ())
         for obs, *_ in observables:
+            if obs in REFERENCE_KEYS and (nu, e, mu) != reference:
+                continue
             steps = [h for h in series[key] if obs in series[key][h]]
             if not steps:
                 continue
@@ -448,7 +480,7 @@ def main():
         out = outputs.atomic_output(args.markdown)
         try:
             with open(out.name, "w") as md:
-                md.write(markdown(series, classes, args.default_step, args.tolerance))
+                md.write(markdown(series, classes, args.default_step, args.tolerance, observables))
             out.commit()
         finally:
             out.abandon()

@@ -33,3 +33,6 @@ CONV_SEED          := 1
 CONV_FROM_STRAIN   := 1
 CONV_OBSERVE_STRAIN := 2e-3
 CONV_FRAME_STRAIN  := 4e-2
+# z, Φ, Ψ and the fabric also over geometric contacts (gf-network --contact-gap), these gaps in
+# mean diameters.
+CONV_CONTACT_GAPS  := 1e-4 1e-3 1e-2

@@ -109,6 +109,7 @@ CONV_SEED          := 1
 CONV_FROM_STRAIN   := 0.05
 CONV_OBSERVE_STRAIN := 2e-3
 CONV_FRAME_STRAIN  := 2e-3
+CONV_CONTACT_GAPS  := 1e-3
 """
 
 
@@ -153,7 +154,7 @@ class ConvergenceMakeTest(unittest.TestCase):
                 # The extra tolerance is a series of its own at one step.
                 self.assertEqual(sorted(set(steps[tol == 1e-8])), [1e-3])
                 self.assertEqual(sorted(set(np.round(nu, 3))), [0.5, 0.7])
-                for key in ("p", "s_over_p", "z", "xi", "p_bc", "C_v"):
+                for key in ("p", "s_over_p", "z", "xi", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
                     self.assertIn(key, obs)
                 classes = [c.decode() if isinstance(c, bytes) else c for c in f["classes/class"][()]]
                 self.assertTrue(set(classes) <= {"converged", "converging", "regularisation-dependent", "unsettled"})
@@ -169,6 +170,7 @@ class ConvergenceMakeTest(unittest.TestCase):
             self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-10", md)
             self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-08", md)
             self.assertIn("γ̇dt = 0.001 (default)", md)
+            self.assertIn("| z (age ≥ 2), gap 0.001σ |", md)
             # Nothing left to do.
             q = self.make(d, "2e-3 1e-3 5e-4", "-q")
             self.assertEqual(q.returncode, 0, q.stdout + q.stderr)
