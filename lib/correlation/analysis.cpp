@@ -114,14 +114,12 @@ RunResult summarise(const RunSums& s, const LagGrid& grid, const Settings& setti
   r.fit = fit_anisotropy(sector_centres(grid), r.xi_theta, r.xi_theta_error, r.xi, grid.sector_width());
   r.magnitude = magnitude_length(s.blocks, grid, settings.magnitude);
   // Eq. 5.3's shape for the decay length per direction: ξ_|C|(θ) = ξ̄ (1 − a0 sin 2(θ − θ0)),
-  // ξ̄ the mean over the sectors (fit_anisotropy's ξ/(2π)).
-  double mean = 0;
-  int finite = 0;
-  for (double x : r.magnitude.xi_theta)
-    if (std::isfinite(x)) mean += x, ++finite;
-  if (finite > 0)
-    r.fit_abs = fit_anisotropy(sector_centres(grid), r.magnitude.xi_theta, r.magnitude.xi_theta_error,
-                               2 * M_PI * mean / finite, grid.sector_width());
+  // ξ̄ the mean over the sectors; no fit unless every sector is finite.
+  const std::vector<double>& abs_theta = r.magnitude.xi_theta;
+  if (std::all_of(abs_theta.begin(), abs_theta.end(), [](double x) { return std::isfinite(x); }))
+    r.fit_abs =
+        fit_anisotropy_about_mean(sector_centres(grid), abs_theta, r.magnitude.xi_theta_error, grid.sector_width());
+  r.direction = direction_length(s.blocks, grid);
   r.map = correlation_map(s.map, total.norm, grid);
   r.normal = force_distribution(s.normal, settings.force_bin_width, settings.force_max);
   r.binary = force_distribution(s.binary, settings.force_bin_width, settings.force_max);
@@ -155,6 +153,14 @@ Clusters clusters_of(const Run& run, int window, long long frame) {
 }
 
 }  // namespace
+
+DirectionLength direction_length(const std::vector<PairSums>& blocks, const LagGrid& grid) {
+  DirectionLength d;
+  d.xi_theta = direction_correlation_length(total_of(blocks, grid), grid);
+  d.xi_theta_error = jackknife_errors(blocks, [&](const PairSums& x) { return direction_correlation_length(x, grid); });
+  d.fit = fit_anisotropy_about_mean(sector_centres(grid), d.xi_theta, d.xi_theta_error, grid.sector_width());
+  return d;
+}
 
 // Constants measured with bench/bench_correlation (docs/performance.md, "gf-correlate"):
 // seconds per pair visited within ℓ_max by the exact sums, per grid point and log2 of the

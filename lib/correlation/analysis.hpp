@@ -58,6 +58,15 @@ struct Settings {
   bool quiet = false;
 };
 
+// ξ_dir(θ), eq. 5.2 per direction (force_correlation.hpp), with jackknife errors over the
+// blocks, and eq. 5.3's shape fitted about its mean over the finite sectors
+// (fit_anisotropy_about_mean).
+struct DirectionLength {
+  std::vector<double> xi_theta, xi_theta_error;  // [angle_bins]
+  AnisotropyFit fit;
+};
+DirectionLength direction_length(const std::vector<PairSums>& blocks, const LagGrid& grid);
+
 // A trajectory opened and checked, with the frames to average and its parameters.
 struct Run {
   std::string path;
@@ -83,6 +92,7 @@ struct RunResult {
   AnisotropyFit fit;
   MagnitudeLength magnitude;  // ξ_|C|, its tail share and flag, ξ_|C|(θ)
   AnisotropyFit fit_abs;      // eq. 5.3's shape fitted to ξ_|C|(θ) (see analysis.cpp)
+  DirectionLength direction;  // ξ_dir(θ) and its fit
   std::vector<double> map;    // C on the lag map
   Distribution normal, binary;
   PeakDecision peak;

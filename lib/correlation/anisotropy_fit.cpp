@@ -122,4 +122,23 @@ AnisotropyFit fit_anisotropy(const std::vector<double>& theta, const std::vector
   return fit;
 }
 
+AnisotropyFit fit_anisotropy_about_mean(const std::vector<double>& theta, const std::vector<double>& y,
+                                        const std::vector<double>& error, double sector_width) {
+  const std::size_t n = y.size();
+  if (theta.size() != n) return AnisotropyFit{};
+  const bool with_errors = error.size() == n;
+  std::vector<double> finite_theta, finite_y, finite_error;
+  double mean = 0;
+  int finite = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!std::isfinite(y[k])) continue;
+    mean += y[k], ++finite;
+    finite_theta.push_back(theta[k]);
+    finite_y.push_back(y[k]);
+    if (with_errors) finite_error.push_back(error[k]);
+  }
+  if (finite < 3) return AnisotropyFit{};
+  return fit_anisotropy(finite_theta, finite_y, finite_error, 2 * M_PI * mean / finite, sector_width);
+}
+
 }  // namespace granflow::correlation

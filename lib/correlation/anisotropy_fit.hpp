@@ -33,4 +33,11 @@ struct AnisotropyFit {
 AnisotropyFit fit_anisotropy(const std::vector<double>& theta, const std::vector<double>& xi_theta,
                              const std::vector<double>& error, double xi, double sector_width);
 
+// Eq. 5.3's shape for a length per direction, y(θ) = m (1 − a0 sin 2(θ − θ0)) with m the mean
+// of the finite y_k (not fitted): fit_anisotropy with ξ = 2π m on the finite sectors only,
+// with their errors (weighted unless one of those is not finite and positive). No fit
+// (NaN) with fewer than 3 finite sectors.
+AnisotropyFit fit_anisotropy_about_mean(const std::vector<double>& theta, const std::vector<double>& y,
+                                        const std::vector<double>& error, double sector_width);
+
 }  // namespace granflow::correlation

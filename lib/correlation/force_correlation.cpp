@@ -287,6 +287,22 @@ std::vector<double> angular_correlation_length(const PairSums& sums, const LagGr
   return xi;
 }
 
+std::vector<double> direction_correlation_length(const PairSums& sums, const LagGrid& grid) {
+  const std::size_t coarse = std::size_t(grid.coarse_bins());
+  std::vector<double> xi(sums.sector.size(), kNaN);
+  for (std::size_t k = 0; k < xi.size(); ++k) {
+    double num = 0, den = 0;
+    for (std::size_t c = k * coarse; c < (k + 1) * coarse; ++c) {
+      num += sums.sector_w[c];
+      den += sums.sector_w_over_lag[c];
+    }
+    if (den == 0) continue;
+    const double ratio = num / den;
+    if (ratio > 0 && ratio <= grid.max_lag()) xi[k] = ratio;
+  }
+  return xi;
+}
+
 std::vector<double> correlation_map(const std::vector<double>& map, double norm, const LagGrid& grid) {
   const int side = grid.map_side(), half = grid.map_half;
   const double h = grid.map_bin, scale = norm > 0 ? 1 / (norm * h * h) : kNaN;

@@ -27,6 +27,12 @@
 // eq. 5.3 requires; it is π-periodic (C(ℓ) = C(−ℓ)) and is averaged over K sectors
 // of [0, π): ξ(θ_k) = Σ_{pairs with angle mod π in sector k} w / (2Δθ Σ_all w/ℓ),
 // Δθ = π/K.
+//   ξ_dir(θ), eq. 5.2 per direction: ∫_0^ℓmax dℓ ℓ C(ℓ, θ) / ∫_0^ℓmax dℓ C(ℓ, θ), numerator
+// and denominator each averaged over the sector: ξ_dir(θ_k) = Σ_k w / Σ_k w/ℓ (a length), so
+// that ξ(θ) = ξ_dir(θ)·∫dℓ C(ℓ, θ) / (2π ∫dℓ C̄), and the ratios' Σ_k w/ℓ-weighted mean over
+// all sectors is ξ. A mean of the lags in (0, ℓ_max) with weights C(ℓ, θ)dℓ, it can leave
+// that range only where C takes both signs: NaN where Σ_k w/ℓ = 0 or the ratio is outside
+// (0, ℓ_max] (the two sums of opposite signs, or Σ_k w/ℓ nearly cancelled).
 //   C̄ in radial bin b: Σ_{pairs in b} w / (W · π(ℓ_{b+1}² − ℓ_b²)).
 //   The map: ½Σ w at ±r_ij on a square grid of lag vectors (lab frame, bins of side h
 // whose edges are the multiples of h, so the lag axes are bin edges), divided by W h².
@@ -120,7 +126,8 @@ std::vector<double> isotropic_correlation(const PairSums& sums, const LagGrid& g
 double correlation_length(const PairSums& sums);                                       // ξ, eq. 5.2
 // ξ with both integrals truncated at the upper edge of each radial bin (convergence check).
 std::vector<double> truncated_correlation_length(const PairSums& sums);
-std::vector<double> angular_correlation_length(const PairSums& sums, const LagGrid& grid);  // ξ(θ_k)
+std::vector<double> angular_correlation_length(const PairSums& sums, const LagGrid& grid);    // ξ(θ_k)
+std::vector<double> direction_correlation_length(const PairSums& sums, const LagGrid& grid);  // ξ_dir(θ_k)
 // C on the map grid: ½(map at ℓ + map at −ℓ) / (W h²); NaN in bins not wholly inside
 // the disc |ℓ| < ℓ_max.
 std::vector<double> correlation_map(const std::vector<double>& map, double norm, const LagGrid& grid);

@@ -1,6 +1,7 @@
 #include "correlation/report.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include "io/analysis_writer.hpp"
 
@@ -10,10 +11,15 @@ namespace {
 
 constexpr const char* kPerRun = "one row per input run, in /runs order";
 
-// Rows of equal length, flattened row-major.
-std::vector<double> rows(const std::vector<RunResult>& results, std::vector<double> RunResult::*member) {
+// Rows of equal length, flattened row-major; row(result) is a std::vector<double> member
+// of RunResult or a function returning one.
+template <class Row>
+std::vector<double> rows(const std::vector<RunResult>& results, Row row) {
   std::vector<double> out;
-  for (const auto& r : results) out.insert(out.end(), (r.*member).begin(), (r.*member).end());
+  for (const auto& r : results) {
+    const std::vector<double>& values = std::invoke(row, r);
+    out.insert(out.end(), values.begin(), values.end());
+  }
   return out;
 }
 
@@ -174,21 +180,22 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "1: xi_abs finite and xi_abs_tail <= abs_max_tail_share; 0: correlations reach the box (xi_abs measures "
           "the cell, the thesis' 'too large to be measured') or no signal; left out of nu_bc_abs",
           "1", per_run);
-  std::vector<double> abs_theta, abs_theta_error;
-  for (const auto& r : res) {
-    abs_theta.insert(abs_theta.end(), r.magnitude.xi_theta.begin(), r.magnitude.xi_theta.end());
-    abs_theta_error.insert(abs_theta_error.end(), r.magnitude.xi_theta_error.begin(), r.magnitude.xi_theta_error.end());
-  }
-  w.write("/correlation/xi_abs_theta", {n, nk}, abs_theta,
+  w.write("/correlation/xi_abs_theta", {n, nk},
+          rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.magnitude.xi_theta; }),
           "xi_abs of the radial profile of C(l, theta) averaged over the sector (angle of the lag modulo pi): a "
           "decay length per direction, not per radian",
           "length", per_run);
-  w.write("/correlation/xi_abs_theta_error", {n, nk}, abs_theta_error, "jackknife standard error of xi_abs_theta",
-          "length", per_run);
-  auto fit_abs = [&](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
-    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].fit_abs.*member; }),
-            meaning, units, per_run);
+  w.write("/correlation/xi_abs_theta_error", {n, nk},
+          rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.magnitude.xi_theta_error; }),
+          "jackknife standard error of xi_abs_theta", "length", per_run);
+  // A column of one of the eq. 5.3 fits, fit(result).
+  auto fit_column = [&](auto fit) {
+    return [&, fit](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
+      w.write(std::string("/correlation/") + name, {n},
+              column(n, [&](std::size_t i) { return std::invoke(fit, res[i]).*member; }), meaning, units, per_run);
+    };
   };
+  const auto fit_abs = fit_column(&RunResult::fit_abs);
   fit_abs("a0_abs", &AnisotropyFit::a0,
           "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean over the "
           "sectors",
@@ -214,10 +221,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "length/radian", per_run);
   w.write("/correlation/xi_theta_error", {n, nk}, rows(res, &RunResult::xi_theta_error),
           "jackknife standard error of xi_theta", "length/radian", per_run);
-  auto fit = [&](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
-    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].fit.*member; }),
-            meaning, units, per_run);
-  };
+  const auto fit = fit_column(&RunResult::fit);
   fit("a0", &AnisotropyFit::a0, "a0 of eq. 5.3, xi(theta) = xi/(2 pi) (1 - a0 sin 2(theta - theta0)), fitted", "1");
   fit("a0_error", &AnisotropyFit::a0_error, "standard error of a0 (covariance scaled by max(1, sqrt(chi2/dof)))", "1");
   fit("theta0", &AnisotropyFit::theta0, "theta0 of eq. 5.3, in [-pi/2, pi/2)", "radian");
@@ -225,6 +229,36 @@ void write_report(const std::string& path, const Report& report, const io::Param
   fit("fit_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of the eq. 5.3 fit", "1");
   w.write("/correlation/fit_weighted", {n}, int_column(n, [&](std::size_t i) { return res[i].fit.weighted; }),
           "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter", "1", per_run);
+  // ξ_dir(θ), eq. 5.2 per direction (force_correlation.hpp), and its fit.
+  w.write("/correlation/xi_theta_direction", {n, nk},
+          rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.direction.xi_theta; }),
+          "xi_dir(theta) = int dl l C(l, theta) / int dl C(l, theta), eq. 5.2 per direction, numerator and "
+          "denominator each averaged over the sector: sum w / sum (w/l) over the pairs with l < max_lag whose angle "
+          "modulo pi falls in the sector; a length, not per radian (xi_theta = xi_theta_direction * int dl C(l, "
+          "theta) / (2 pi int dl C(l))); NaN where int dl C(l, theta) = 0 or the ratio is outside (0, max_lag] "
+          "(C of both signs: the integrals of opposite signs, or int dl C(l, theta) nearly cancelled)",
+          "length", per_run);
+  w.write("/correlation/xi_theta_direction_error", {n, nk},
+          rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.direction.xi_theta_error; }),
+          "jackknife standard error of xi_theta_direction (NaN where a leave-one-block-out value is NaN)", "length",
+          per_run);
+  const auto fit_direction = fit_column([](const RunResult& r) -> const AnisotropyFit& { return r.direction.fit; });
+  fit_direction("a0_direction", &AnisotropyFit::a0,
+                "a0 of eq. 5.3's shape fitted to the finite xi_theta_direction = m (1 - a0 sin 2(theta - theta0)), m "
+                "their mean (eq. 5.3 with xi = 2 pi m); NaN with fewer than 3 finite sectors",
+                "1");
+  fit_direction("a0_direction_error", &AnisotropyFit::a0_error,
+                "standard error of a0_direction (covariance scaled by max(1, sqrt(chi2/dof)), or by sqrt(chi2/dof) "
+                "when unweighted)",
+                "1");
+  fit_direction("theta0_direction", &AnisotropyFit::theta0, "theta0 of that fit, in [-pi/2, pi/2)", "radian");
+  fit_direction("theta0_direction_error", &AnisotropyFit::theta0_error, "standard error of theta0_direction", "radian");
+  fit_direction("fit_direction_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of that fit", "1");
+  w.write("/correlation/fit_direction_weighted", {n},
+          int_column(n, [&](std::size_t i) { return res[i].direction.fit.weighted; }),
+          "1: that fit weighted by the jackknife errors of the finite xi_theta_direction; 0: unweighted (one of "
+          "those errors not finite and positive, or no fit), errors from the scatter",
+          "1", per_run);
   std::vector<double> maps;
   for (const auto& r : res) maps.insert(maps.end(), r.map.begin(), r.map.end());
   w.write("/correlation/map", {n, nm, nm}, maps,

@@ -159,6 +159,17 @@ TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
   EXPECT_EQ(read_ints(out, "/correlation/measurable")[0], 1);
   EXPECT_EQ(read_doubles(out, "/correlation/xi_abs_tail")[0], 0);
   EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_abs_el")));
+  // Eq. 5.2 per direction: every sector holding pairs gives their distance d, the empty ones NaN.
+  const auto xi_direction = read_doubles(out, "/correlation/xi_theta_direction");
+  ASSERT_EQ(xi_direction.size(), 24u);
+  int holding = 0;
+  for (double x : xi_direction)
+    if (!std::isnan(x)) {
+      ++holding;
+      EXPECT_NEAR(x, 1.3, 1e-12);
+    }
+  EXPECT_GE(holding, 12) << "45 pairs at random angles over 24 sectors";
+  EXPECT_EQ(read_doubles(out, "/correlation/xi_theta_direction_error").size(), 24u);
   // C(ℓ) sits in the one bin holding ℓ = 1.3, and the whole C integrates to −1/2 (sum rule).
   const auto r_bins = read_doubles(out, "/correlation/r"), c = read_doubles(out, "/correlation/C");
   const double width = r_bins[1] - r_bins[0];
@@ -177,10 +188,15 @@ TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
   EXPECT_NE(string_attribute(out, "/parameters", "command_line").find("--from-strain 0.5"), std::string::npos);
   EXPECT_FALSE(string_attribute(out, "/parameters", "version").empty());
   for (const char* d :
-       {"/correlation/C", "/correlation/xi_theta", "/correlation/map", "/forces/P", "/runs/restitution"}) {
+       {"/correlation/C", "/correlation/xi_theta", "/correlation/map", "/forces/P", "/runs/restitution",
+        "/correlation/xi_theta_direction", "/correlation/xi_theta_direction_error", "/correlation/a0_direction",
+        "/correlation/a0_direction_error", "/correlation/theta0_direction", "/correlation/theta0_direction_error",
+        "/correlation/fit_direction_chi2_dof", "/correlation/fit_direction_weighted"}) {
     EXPECT_FALSE(string_attribute(out, d, "meaning").empty()) << d;
     EXPECT_FALSE(string_attribute(out, d, "units").empty()) << d;
   }
+  for (const char* d : {"/correlation/xi_theta_direction", "/correlation/a0_direction"})
+    EXPECT_EQ(string_attribute(out, d, "rows"), "one row per input run, in /runs order") << d;
   EXPECT_EQ(dir.entries(), 2) << "only the run and the output";
 }
 
