@@ -10,10 +10,11 @@ steady_state.py, gf-correlate, gf-network and gf-kinetic, told apart by their /p
 Classes, on the series of each point with the most steps at the default tolerance (OBSERVABLES
 lists what is classified; errors are the tables' own: blocking, jackknife, delta method):
 - converged: the value at the default step lies within max(σ, 1 %) of the value at the finest
-  step, σ the two errors combined in quadrature;
+  step, σ the two errors combined in quadrature, and σ is at most MAX_RELATIVE_ERROR of it;
 - converging: Q(h) = Q0 + b·h^α fits (α profiled over ALPHA_GRID, weighted least squares in
   Q0, b; acceptable unless P(χ² >= χ²_fit) < MIN_FIT_PROBABILITY) and the interval of Q0 (Q0 ± its error over
-  every α whose χ² is within max(1, χ²_min/dof) of the minimum) excludes 0: the limit Q0, its
+  every α whose χ² is within max(1, χ²_min/dof) of the minimum) lies on the side of 0 of every
+  value (a limit of the other sign is the quantity vanishing): the limit Q0, its
   error, and the step h_1% = (0.01·|Q0|/|b|)^(1/α) at which the fit is 1 % from it;
 - regularisation-dependent: no limit is told from zero (the interval of Q0 holds 0) and
   Q = c·h^α fits over a factor of at least MIN_SPAN in h: its exponent α and error;
@@ -57,6 +58,10 @@ OBSERVABLES = (
     ("xi_abs_ratio", "ξ_|C|/ξ_el,|C|", "gf-correlate", "correlation/xi_abs_ratio", "correlation/xi_abs_ratio_error", 0),
     ("a0", "a0 (eq. 5.3)", "gf-correlate", "correlation/a0", "correlation/a0_error", 0),
     ("theta0", "θ0 (eq. 5.3)", "gf-correlate", "correlation/theta0", "correlation/theta0_error", 0),
+    ("a0_direction", "a0, eq. 5.2 per direction", "gf-correlate", "correlation/a0_direction",
+     "correlation/a0_direction_error", 0),
+    ("theta0_direction", "θ0, eq. 5.2 per direction", "gf-correlate", "correlation/theta0_direction",
+     "correlation/theta0_direction_error", 0),
     ("pf_mode", "P(f)'s mode", "gf-correlate", "forces/mode", None, 0),
     ("pf_zero", "P(0)/P_max", "gf-correlate", "forces/p0_over_pmax", None, 0),
     ("z", "z (age ≥ 2)", "gf-network", "runs/coordination", "runs/coordination_error", 0),
@@ -82,6 +87,7 @@ MIN_FIT_PROBABILITY = 1e-3
 MIN_STEPS = 3
 MIN_SPAN = 16.0
 RELATIVE_TOLERANCE = 0.01
+MAX_RELATIVE_ERROR = 0.1
 STEP_KEY_DIGITS = 12
 
 
@@ -213,7 +219,9 @@ def classify(steps, values, errors, default_step):
         result["default_value"], result["default_error"] = float(q[k]), float(s[k])
         if k != len(h) - 1:
             sigma = math.sqrt(np.nan_to_num(s[k]) ** 2 + np.nan_to_num(s[-1]) ** 2)
-            if abs(q[k] - q[-1]) <= max(sigma, RELATIVE_TOLERANCE * abs(q[-1])):
+            # Errors larger than MAX_RELATIVE_ERROR of the value cannot show convergence.
+            precise = sigma <= MAX_RELATIVE_ERROR * abs(q[-1])
+            if precise and abs(q[k] - q[-1]) <= max(sigma, RELATIVE_TOLERANCE * abs(q[-1])):
                 result["class"] = "converged"
     # A value without an error weighs as one known to 1 % of the series' largest |Q|.
     floor = RELATIVE_TOLERANCE * float(np.max(np.abs(q)))
@@ -227,7 +235,9 @@ def classify(steps, values, errors, default_step):
             if limit["b"] != 0 and limit["q0"] != 0:
                 result["step_1pct"] = (RELATIVE_TOLERANCE * abs(limit["q0"]) / abs(limit["b"])) ** (1.0 / limit["alpha"])
             # A limit needs a spare degree of freedom: three steps always fit three parameters.
-            has_limit = limit["dof"] >= 1 and (limit["q0_low"] > 0 or limit["q0_high"] < 0)
+            # A limit of the other sign than every value is the quantity vanishing, not converging.
+            same_sign = (limit["q0_low"] > 0 and np.all(q > 0)) or (limit["q0_high"] < 0 and np.all(q < 0))
+            has_limit = limit["dof"] >= 1 and same_sign
         else:
             has_limit = False
         power = fit_power(h, q, fit_sigma)
@@ -329,7 +339,7 @@ def fmt(value, error=math.nan):
 
 def class_text(c):
     if c["class"] == "converging":
-        text = f"converging: limit {fmt(c['limit'], c['limit_error'])}"
+        text = f"converging: limit {fmt(c['limit'], c['limit_error'])} (α = {c['limit_exponent']:.2f})"
         if np.isfinite(c["step_1pct"]):
             text += f", 1 % at γ̇dt ≈ {c['step_1pct']:.1e}"
         return text
@@ -443,6 +453,7 @@ def main():
         "reference": args.reference,
         "tolerance": args.tolerance,
         "relative_tolerance": RELATIVE_TOLERANCE,
+        "max_relative_error": MAX_RELATIVE_ERROR,
         "min_fit_probability": MIN_FIT_PROBABILITY,
         "min_steps": MIN_STEPS,
         "min_span": MIN_SPAN,

@@ -58,6 +58,21 @@ class ClassifyTest(unittest.TestCase):
         self.assertAlmostEqual(c["exponent"], 0.45, delta=3 * c["exponent_error"])
         self.assertLess(c["exponent_error"], 0.1)
 
+    def test_extrapolation_through_zero_is_not_a_limit(self):
+        # A count falling towards 0 faster than linearly: Q0 + b h^α extrapolates below 0.
+        q, s = noisy(0.186 + 0.42 * (STEPS / 1.25e-4 - 1) ** 0.8 / 15**0.8 * 4, 0.01, 4)
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertNotEqual(c["class"], "converging")
+        q, s = noisy(1.4 * STEPS**0.55, 0.02, 5)
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertEqual(c["class"], "regularisation-dependent")
+
+    def test_errors_too_large_to_show_convergence(self):
+        q = np.array([4.6, 99.0, 12.8, 9.5, 4.3])
+        s = np.array([0.2, 107.0, 2.7, 2.3, 0.35])
+        c = convergence.classify(STEPS, q, s, 1e-3)
+        self.assertNotEqual(c["class"], "converged")
+
     def test_pure_power_over_a_short_span_is_unsettled(self):
         steps = STEPS[:3]  # a factor of 4 only
         q, s = noisy(40 * steps**0.45, 0.02, 3)
