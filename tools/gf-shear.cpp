@@ -34,6 +34,12 @@ int main(int argc, char** argv) {
     cli.real_option("temperature", 0, "T0", "only at --rate 0: granular temperature of the random start velocities",
                     "0");
     cli.integer_option("seed", 0, "SEED", "random seed of the --temperature start", "1");
+    cli.text_option("branch-velocities", 0, "MODE",
+                    "only for a branch from a moving frame sheared at γ̇₀: its velocities and spins at --rate γ̇. "
+                    "scale: × γ̇/γ̇₀ (the same trajectory at the new speed); keep: the fluctuations about the "
+                    "mean flow kept, the mean flow set to γ̇; reset: the affine flow of γ̇, no fluctuations. "
+                    "Contact forces × (γ̇/γ̇₀)² in every mode",
+                    "scale");
     add_run_options(cli, "1");
     // Options that would be ignored are refused (and not recorded).
     cli.conflicts("strain", "steps");
@@ -51,7 +57,6 @@ int main(int argc, char** argv) {
     require_in_range("temperature", temperature, 0, INFINITY, false, true);
     const long long seed = cli.integer("seed");
     if (seed < 0) throw UsageError("option --seed: must be >= 0");
-    RunPlan plan = run_plan(cli);
 
     // Time step and length of the run.
     double dt = 0;
@@ -73,9 +78,17 @@ int main(int argc, char** argv) {
       throw UsageError("with --rate 0 give --steps (there is no strain)");
     }
 
+    const BranchVelocities branch = branch_velocities_named(cli.text("branch-velocities"));
+
     const std::string input_path = cli.text("input");
     io::TrajectoryReader input(input_path);
-    ShearStart start = shear_start(input, cli.integer("frame"), rate, temperature, std::uint64_t(seed));
+    ShearStart start =
+        shear_start(input, cli.integer("frame"), rate, temperature, std::uint64_t(seed),
+                    cli.given("branch-velocities") ? std::optional<BranchVelocities>(branch) : std::nullopt);
+    // A start at rest has no velocities to branch: the option is not recorded (refused
+    // by shear_start when given). Decided before run_plan, which signs the options that apply.
+    if (start.fresh) cli.not_applicable("branch-velocities", "a start at rest");
+    RunPlan plan = run_plan(cli);
     const GrainState& g = start.grains;
     const double mean_radius = std::accumulate(g.radius.begin(), g.radius.end(), 0.0) / double(g.size());
     const double mean_mass = std::accumulate(g.mass.begin(), g.mass.end(), 0.0) / double(g.size());

@@ -29,4 +29,12 @@ void add_affine_flow(GrainState& state, const Box& box, double rate) {
   }
 }
 
+void remove_affine_flow(GrainState& state, const Box& box, double rate) {
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    if (state.fixed[i]) continue;
+    state.velocity[i] = fluctuating_velocity(state, box, rate, i);
+    state.angular_velocity[i] += 0.5 * rate;
+  }
+}
+
 }  // namespace granflow

@@ -54,4 +54,8 @@ inline Vec2 fluctuating_velocity(const GrainState& state, const Box& box, double
   return state.velocity[i] - streaming_velocity(box, rate, state.position[i].y());
 }
 
+// Leaves every mobile grain with its fluctuation about the affine flow of rate γ̇:
+// v ← ṽ = fluctuating_velocity(), ω ← ω + γ̇/2. The inverse of add_affine_flow up to round-off.
+void remove_affine_flow(GrainState& state, const Box& box, double rate);
+
 }  // namespace granflow

@@ -36,8 +36,43 @@ void thermalise(GrainState& s, const Box& box, double temperature, std::uint64_t
 
 }  // namespace
 
+BranchVelocities branch_velocities_named(const std::string& name) {
+  if (name == "scale") return BranchVelocities::scale;
+  if (name == "keep") return BranchVelocities::keep;
+  if (name == "reset") return BranchVelocities::reset;
+  throw UsageError("option --branch-velocities: must be scale, keep or reset, not '" + name + "'");
+}
+
+void branch_velocities(GrainState& state, const Box& box, double source_rate, double rate, BranchVelocities mode) {
+  switch (mode) {
+    case BranchVelocities::scale: {
+      if (source_rate == rate) return;
+      const double a = rate / source_rate;
+      for (std::size_t i = 0; i < state.size(); ++i) {
+        if (state.fixed[i]) continue;
+        state.velocity[i] *= a;
+        state.angular_velocity[i] *= a;
+      }
+      return;
+    }
+    case BranchVelocities::keep:
+      if (source_rate == rate) return;
+      remove_affine_flow(state, box, source_rate);
+      add_affine_flow(state, box, rate);
+      return;
+    case BranchVelocities::reset:
+      for (std::size_t i = 0; i < state.size(); ++i) {
+        if (state.fixed[i]) continue;
+        state.velocity[i] = Vec2::Zero();
+        state.angular_velocity[i] = 0;
+      }
+      add_affine_flow(state, box, rate);
+      return;
+  }
+}
+
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index, double rate, double temperature,
-                       std::uint64_t seed) {
+                       std::uint64_t seed, std::optional<BranchVelocities> mode) {
   const std::string& path = input.path();
   const std::size_t index = input.frame_index(frame_index);
   io::Frame frame = input.frame(index);
@@ -52,6 +87,9 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
   start.box = frame.box;
   start.grains = grains_of(frame, properties);
   if (at_rest(start.grains)) {
+    if (mode)
+      throw UsageError("option --branch-velocities cannot be combined with a start from a frame at rest ('" + path +
+                       "' frame " + std::to_string(index) + ", a packing): it has no velocities to branch");
     start.fresh = true;
     if (rate != 0) {
       add_affine_flow(start.grains, start.box, rate);
@@ -67,15 +105,17 @@ ShearStart shear_start(const io::TrajectoryReader& input, long long frame_index,
     start.contacts = frame.contacts;
   }
   const double source_rate = input.lees_edwards_rate();
+  const BranchVelocities rule = mode.value_or(BranchVelocities::scale);
+  if (rule == BranchVelocities::reset && rate == 0)
+    throw UsageError("option --branch-velocities: reset at --rate 0 would leave every grain at rest");
+  if (source_rate != rate && (source_rate == 0 || rate == 0))
+    throw UsageError("'" + path + "' was run at rate " + std::to_string(source_rate) + ": branching to rate " +
+                     std::to_string(rate) + " is only possible between non-zero rates (start from a packing instead)");
+  branch_velocities(start.grains, start.box, source_rate, rate, rule);
   if (source_rate != rate) {
-    if (source_rate == 0 || rate == 0)
-      throw UsageError("'" + path + "' was run at rate " + std::to_string(source_rate) + ": branching to rate " +
-                       std::to_string(rate) +
-                       " is only possible between non-zero rates (start from a packing instead)");
+    // In every mode: the contacts only warm-start the first solve. Every force column
+    // scales as γ̇² (binary forces too); velocities as γ̇.
     const double a = rate / source_rate;
-    for (auto& v : start.grains.velocity) v *= a;
-    for (auto& w : start.grains.angular_velocity) w *= a;
-    // Every force column scales as γ̇² (binary forces too); velocities as γ̇.
     for (auto& f : start.contacts.normal_force) f *= a * a;
     for (auto& f : start.contacts.tangential_force) f *= a * a;
     for (auto& f : start.contacts.binary_force) f *= a * a;

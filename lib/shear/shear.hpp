@@ -2,6 +2,7 @@
 // Simple shear in a Lees–Edwards cell (thesis §4.2): the start state of a run and the
 // bulk observables recorded at every observed step.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "dynamics/engine.hpp"
@@ -18,17 +19,36 @@ struct ShearStart {
   bool fresh = false;  // the input was at rest: affine flow or random velocities were set
 };
 
+// What a branch from a moving frame, sheared at γ̇₀, does with the velocities and spins
+// at rate γ̇ (gf-shear --branch-velocities; docs/programs/gf-shear.md):
+enum class BranchVelocities {
+  scale,  // v ← (γ̇/γ̇₀)·v, ω ← (γ̇/γ̇₀)·ω: the Bagnold map (§3.2), the same trajectory at the new speed
+  keep,  // the fluctuations about the mean flow kept: v ← ṽ + γ̇(y − Ly/2)·x̂, ω ← (ω + γ̇₀/2) − γ̇/2
+  reset,  // no fluctuations: v ← γ̇(y − Ly/2)·x̂, ω ← −γ̇/2 (the affine start of a packing)
+};
+// "scale", "keep" or "reset"; UsageError naming --branch-velocities otherwise.
+BranchVelocities branch_velocities_named(const std::string& name);
+
+// Applies `mode` to the velocities and spins of the mobile grains of a frame sheared at
+// source_rate, for a run at rate. scale and keep leave the state as it is when the rates
+// are equal; reset does not. Contacts are not touched (see shear_start).
+void branch_velocities(GrainState& state, const Box& box, double source_rate, double rate, BranchVelocities mode);
+
 // The start of a shear run at rate γ̇ from frame `frame` (negative: from the end) of
 // a packing or trajectory:
 // - a frame at rest (a packing) gets the affine flow v_x = γ̇(y − Ly/2), ω = −γ̇/2, or,
 //   at γ̇ = 0, Gaussian velocities with zero total momentum scaled to granular
-//   temperature `temperature` (eq. 4.5; seeded);
-// - a moving frame keeps its velocities; if it was sheared at γ̇₀ ≠ γ̇ (both non-zero),
-//   velocities and ω are scaled by γ̇/γ̇₀ and the contact forces by (γ̇/γ̇₀)²: the
-//   Bagnold invariance (§3.2) maps the stored state onto the new rate exactly.
-// UsageError for a box open in y, fixed grains, or a rate change from or to 0.
+//   temperature `temperature` (eq. 4.5; seeded); `mode` must then be nullopt;
+// - a moving frame sheared at γ̇₀ gets branch_velocities(γ̇₀ → γ̇, mode, scale when
+//   nullopt). With scale and γ̇₀ ≠ γ̇ (both non-zero) the Bagnold invariance (§3.2) maps
+//   the stored state onto the new rate exactly. In every mode the frame's contacts (the
+//   warm start and the first frame's records) keep their pairs and ages, their force
+//   columns are scaled by (γ̇/γ̇₀)² and their pre-step normal velocities by γ̇/γ̇₀: only
+//   the warm start of the first solve, which re-solves them.
+// UsageError for a box open in y, fixed grains, a rate change from or to 0, a mode with a
+// frame at rest (naming --branch-velocities), or reset at γ̇ = 0 (every grain at rest).
 ShearStart shear_start(const io::TrajectoryReader& input, long long frame, double rate, double temperature,
-                       std::uint64_t seed);
+                       std::uint64_t seed, std::optional<BranchVelocities> mode = std::nullopt);
 
 // The engine's per-step collision count, collision velocity product and dissipated energy
 // (StepReport), accumulated

@@ -168,6 +168,49 @@ TEST(GfShearBranch, BagnoldRescalingOnRateChange) {
   for (std::size_t k = 0; k < pa.size(); ++k) ASSERT_NEAR(pb[k] / 1e4, pa[k], 1e-6 * std::fabs(pa[k])) << k;
 }
 
+// --branch-velocities: recorded in /parameters for a branch (scale by default), not for a
+// packing start; frame 0 of a reversed branch holds the rule's velocities: scale −v, keep
+// the stored fluctuations about the reversed mean flow, reset the affine flow of −γ̇₀.
+TEST(GfShearBranch, VelocityModesRecordedAndApplied) {
+  ScratchDir dir("shear_branch_modes");
+  ASSERT_EQ(run_tool("gf-shear", "-i " + packing() + " --steps 200 " + kRun + " -o " + (dir / "ref.h5")).exit_code, 0);
+  EXPECT_FALSE(io::TrajectoryReader(dir / "ref.h5").parameters().has("branch-velocities"));
+  const std::string common = " --steps 10 --strain-step 1e-3 --restitution 0.5 --friction 0.4 --quiet";
+  io::TrajectoryReader ref(dir / "ref.h5");
+  const io::Frame stored = ref.frame(2);
+  const double ly = stored.box.ly, rate = 0.01;
+  for (const std::string mode : {"", "scale", "keep", "reset"}) {
+    SCOPED_TRACE(mode);
+    const std::string out = dir / ("back_" + mode + ".h5");
+    auto r = run_tool("gf-shear", "-i " + (dir / "ref.h5") + " --frame 2 --rate -0.01" + common +
+                                      (mode.empty() ? "" : " --branch-velocities " + mode) + " -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    io::TrajectoryReader branch(out);
+    EXPECT_EQ(branch.parameters().get_string("branch-velocities"), mode.empty() ? "scale" : mode);
+    const io::Frame f = branch.frame(0);
+    for (std::size_t i = 0; i < f.velocity.size(); ++i) {
+      const double u = stored.position[i].y() - 0.5 * ly;  // the mean flow is ±rate·u
+      granflow::Vec2 v;
+      double w;
+      if (mode == "keep") {
+        v = stored.velocity[i] - granflow::Vec2(rate * u, 0) + granflow::Vec2(-rate * u, 0);
+        w = stored.angular_velocity[i] + 0.5 * rate - 0.5 * -rate;
+      } else if (mode == "reset") {
+        v = granflow::Vec2(-rate * u, 0);
+        w = 0.5 * rate;
+      } else {
+        v = -stored.velocity[i];
+        w = -stored.angular_velocity[i];
+      }
+      ASSERT_EQ(f.velocity[i], v) << "grain " << i;
+      ASSERT_EQ(f.angular_velocity[i], w) << "grain " << i;
+    }
+    EXPECT_EQ(f.contacts.pair, stored.contacts.pair);
+    EXPECT_EQ(f.contacts.normal_force, stored.contacts.normal_force);  // a² = 1
+    EXPECT_EQ(f.contacts.age, stored.contacts.age);
+  }
+}
+
 // ---- bad input: exit 2, one line naming the problem, no output file left ----
 
 class GfShearBadInput : public ::testing::TestWithParam<BadInput> {};
@@ -196,6 +239,12 @@ INSTANTIATE_TEST_SUITE_P(
                                "--region-solve-after"},
                       BadInput{"region_solve_after_with_no_cluster_solves",
                                "-i {in} -o {out} --region-solve-after 10 --no-cluster-solves", "--region-solve-after"},
+                      BadInput{"branch_velocities_unknown", "-i {in} -o {out} --branch-velocities reverse",
+                               "--branch-velocities"},
+                      BadInput{"branch_velocities_empty", "-i {in} -o {out} --branch-velocities ''",
+                               "--branch-velocities"},
+                      BadInput{"branch_velocities_with_a_packing", "-i {in} -o {out} --branch-velocities keep",
+                               "--branch-velocities"},
                       BadInput{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
     bad_input_name);
 
