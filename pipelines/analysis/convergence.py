@@ -2,6 +2,11 @@
 """convergence.py --default-step H --reference NU:E:MU --output OUT.h5 [--markdown OUT.md] TABLE.h5...:
 every observable of the reproduction against the strain step h = γ̇dt, and its class.
 
+Beside the tables' observables, from each run's own rows over the steady window: the mean of
+the per-row ratio s/p and the relative spread of the per-row p (ROW_OBSERVABLES), to show what
+the estimator does: per-step stresses are impulses over dt, their spread grows as dt shrinks,
+and a mean of ratios is biased by it where the ratio of means (s_over_p) is not.
+
 Inputs are per-run analysis tables of the convergence study (pipelines/convergence.mk): those of
 steady_state.py, gf-correlate, gf-network and gf-kinetic, told apart by their /parameters
 `program`. Each row is matched to its run by /runs/input; the run's own /parameters give N, ν, e,
@@ -16,8 +21,9 @@ lists what is classified; errors are the tables' own: blocking, jackknife, delta
   every α whose χ² is within max(1, χ²_min/dof) of the minimum) lies on the side of 0 of every
   value (a limit of the other sign is the quantity vanishing): the limit Q0, its
   error, and the step h_1% = (0.01·|Q0|/|b|)^(1/α) at which the fit is 1 % from it;
-- regularisation-dependent: no limit is told from zero (the interval of Q0 holds 0) and
-  Q = c·h^α fits over a factor of at least MIN_SPAN in h: its exponent α and error;
+- regularisation-dependent: no limit of the values' sign is found, and over a factor of at
+  least MIN_SPAN in h either Q = c·h^α fits (its exponent α and error) or Q moves monotonically
+  by a factor of at least MIN_CHANGE (curved in log-log: the local exponent at the finest steps);
 - unsettled: none of these (too few steps, a poor fit, or a limit of unknown sign).
 A fit needs at least MIN_STEPS steps, a limit one more. The bounds of ALPHA_GRID are a prior: a quantity that
 moves as a smaller power of h, or as log h, is not told from one that converges.
@@ -29,7 +35,8 @@ packing_fraction, restitution, friction, tolerance, step, observable, value, err
 /classes/<column> [rows], one row per (point, observable) classified: packing_fraction,
 restitution, friction, grains, observable, class, steps, span, default_value, default_error,
 finest_step, finest_value, finest_error, limit, limit_error, limit_exponent, step_1pct,
-exponent, exponent_error, chi2_dof. --markdown writes the same as tables, one per point.
+exponent, exponent_error, chi2_dof, exponent_finest (between the two finest steps), change
+(finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point.
 """
 import argparse
 import math
@@ -75,6 +82,13 @@ OBSERVABLES = (
     ("C_v", "C_v (eq. 6.11)", "gf-kinetic", "runs/velocity_correlation", "runs/velocity_correlation_error", 0),
     ("omega", "collisions/(grain γ̇)", "gf-kinetic", "runs/collision_frequency", "runs/collision_frequency_error", 1),
 )
+# From the run's own rows over the steady table's window (steady_from): the mean of the per-row
+# ratio s/p, an estimator every table avoids (a ratio of means is what they report), kept to
+# show how it is biased by the per-step stress fluctuations, and those fluctuations.
+ROW_OBSERVABLES = (
+    ("s_over_p_rows", "⟨s/p⟩ per row (biased)", "steady_state.py"),
+    ("p_cv", "std(p)/⟨p⟩ per row", "steady_state.py"),
+)
 # Of a gf-network table made with --contact-gap H (geometric contacts): these, as "<key>@H".
 GEOMETRIC_KEYS = ("z", "Phi", "Psi", "a_c")
 # On the reference point: ξ_el itself.
@@ -86,6 +100,9 @@ ALPHA_GRID = np.linspace(0.25, 2.0, 71)
 MIN_FIT_PROBABILITY = 1e-3
 MIN_STEPS = 3
 MIN_SPAN = 16.0
+# A series that moves monotonically by at least this factor over MIN_SPAN, with no limit of its
+# sign, is regularisation-dependent even where one power does not fit it.
+MIN_CHANGE = 2.0
 RELATIVE_TOLERANCE = 0.01
 MAX_RELATIVE_ERROR = 0.1
 STEP_KEY_DIGITS = 12
@@ -185,6 +202,13 @@ def fit_power(h, q, sigma):
     return {"alpha": beta[1], "alpha_error": math.sqrt(cov[1, 1] * scale), "chi2": chi2, "dof": dof}
 
 
+def monotonic(q, sigma):
+    """Every step between neighbours in one direction by more than their combined error."""
+    d = np.diff(q)
+    e = np.sqrt(np.nan_to_num(sigma[1:]) ** 2 + np.nan_to_num(sigma[:-1]) ** 2)
+    return bool(np.all(d > e) or np.all(d < -e))
+
+
 def classify(steps, values, errors, default_step):
     """The class of one series (steps, values, errors: arrays over h) with its numbers; errors
     that are missing (NaN) count as 0 against the 1 % rule and take 1 % of |Q| in the fits."""
@@ -210,6 +234,9 @@ def classify(steps, values, errors, default_step):
         "exponent": math.nan,
         "exponent_error": math.nan,
         "chi2_dof": math.nan,
+        "exponent_finest": math.nan,
+        "change": math.nan,
+        "power_fits": 0.0,
     }
     if len(h) < 2:
         return result
@@ -243,15 +270,23 @@ def classify(steps, values, errors, default_step):
         power = fit_power(h, q, fit_sigma)
         if power is not None:
             result["exponent"], result["exponent_error"] = power["alpha"], power["alpha_error"]
+            result["power_fits"] = float(acceptable(power))
+        if np.all(q > 0) or np.all(q < 0):
+            result["exponent_finest"] = math.log(q[-1] / q[-2]) / math.log(h[-1] / h[-2])
+            result["change"] = float(q[-1] / q[0])
+        wide = result["span"] >= MIN_SPAN * (1 - 1e-9)
         if result["class"] != "converged":
             if has_limit:
                 result["class"] = "converging"
             elif (
                 power is not None
-                and result["span"] >= MIN_SPAN * (1 - 1e-9)
+                and wide
                 and acceptable(power)
                 and abs(power["alpha"]) > 2 * power["alpha_error"]
             ):
+                result["class"] = "regularisation-dependent"
+            elif wide and monotonic(q, s) and max(result["change"], 1 / result["change"]) >= MIN_CHANGE:
+                # Curved in log-log, but moving by a factor over the span with no limit in sight.
                 result["class"] = "regularisation-dependent"
     return result
 
@@ -292,9 +327,31 @@ def all_observables(rows):
     result = []
     for item in OBSERVABLES + REFERENCE_OBSERVABLES:
         result.append(item)
+        if item[0] == "s_over_p":
+            result.extend((key, label, prog, None, None, 0) for key, label, prog in ROW_OBSERVABLES)
         if item[0] in GEOMETRIC_KEYS:
             result.extend(o for g in gaps for o in geometric_observables(g) if o[0] == f"{item[0]}@{g:g}")
     return result
+
+
+def row_statistics(run_path, from_strain):
+    """(⟨s/p⟩ over the rows at |strain| >= from_strain with its blocking error, std(p)/⟨p⟩) of a
+    gf-shear run, from its /observables pressure and shear_stress."""
+    from granflow_py import statistics
+
+    def series(f, name):
+        g = f["observables"][name]
+        return np.asarray(g["value"][()] if isinstance(g, h5py.Group) else g[()], dtype=float)
+
+    with h5py.File(run_path, "r") as f:
+        keep = np.abs(series(f, "strain")) >= from_strain
+        p = series(f, "pressure")[keep]
+        ratio = series(f, "shear_stress")[keep] / p
+    try:
+        error = statistics.blocking_error(ratio)[0]
+    except ValueError:
+        error = math.nan
+    return (float(np.mean(ratio)), error), (float(np.std(p) / np.mean(p)), math.nan)
 
 
 def read_rows(paths):
@@ -315,6 +372,9 @@ def read_rows(paths):
                 run_path = run if os.path.isabs(run) or os.path.exists(run) else os.path.join(base, run)
                 *key, rate = run_key(run_path, cache)
                 entry = rows.setdefault(tuple(key), {})
+                if program == "steady_state.py":
+                    mean_ratio, cv = row_statistics(run_path, float(f["runs/steady_from"][i]))
+                    entry["s_over_p_rows"], entry["p_cv"] = mean_ratio, cv
                 for obs, _label, prog, name, error, power in observables:
                     if prog != program or name not in f:
                         continue
@@ -344,7 +404,11 @@ def class_text(c):
             text += f", 1 % at γ̇dt ≈ {c['step_1pct']:.1e}"
         return text
     if c["class"] == "regularisation-dependent":
-        return f"regularisation-dependent: ∝ (γ̇dt)^{c['exponent']:.2f}±{c['exponent_error']:.2f}"
+        if c["power_fits"] == 1 and np.isfinite(c["exponent_error"]):
+            text = f"regularisation-dependent: ∝ (γ̇dt)^{c['exponent']:.2f}±{c['exponent_error']:.2f}"
+        else:
+            text = "regularisation-dependent"
+        return text + f"; ×{c['change']:.2g} over the span, local exponent {c['exponent_finest']:.2f} at the finest steps"
     if c["class"] == "converged":
         return "converged"
     if c["steps"] < MIN_STEPS:

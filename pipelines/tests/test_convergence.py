@@ -73,6 +73,16 @@ class ClassifyTest(unittest.TestCase):
         c = convergence.classify(STEPS, q, s, 1e-3)
         self.assertNotEqual(c["class"], "converged")
 
+    def test_curved_fall_without_limit_is_regularisation_dependent(self):
+        # z over force-bearing contacts at ν = 0.80, e = 0.5: falling ever faster, no power fits.
+        steps = np.append(STEPS, 6.25e-5)
+        q = np.array([0.858, 0.6087, 0.4293, 0.2939, 0.1860, 0.1097])
+        s = np.array([0.012, 0.0092, 0.0084, 0.0076, 0.0054, 0.0038])
+        c = convergence.classify(steps, q, s, 1e-3)
+        self.assertEqual(c["class"], "regularisation-dependent")
+        self.assertAlmostEqual(c["exponent_finest"], math.log(0.1097 / 0.1860) / math.log(0.5), places=12)
+        self.assertIn("local exponent 0.76", convergence.class_text(c))
+
     def test_pure_power_over_a_short_span_is_unsettled(self):
         steps = STEPS[:3]  # a factor of 4 only
         q, s = noisy(40 * steps**0.45, 0.02, 3)
@@ -102,6 +112,26 @@ class ClassifyTest(unittest.TestCase):
         c = convergence.classify(STEPS, q, np.full(5, 1e-3), 1e-3)
         self.assertEqual(c["steps"], 4)
         self.assertTrue(math.isnan(c["default_value"]))
+
+
+class RowStatisticsTest(unittest.TestCase):
+    def test_mean_of_ratios_against_ratio_of_means(self):
+        import h5py
+
+        # p alternates 1, 3 and s is 0.6: ⟨s⟩/⟨p⟩ = 0.3, ⟨s/p⟩ = (0.6 + 0.2)/2 = 0.4, std(p)/⟨p⟩ = 0.5;
+        # the rows before strain 1 (p = 100) are left out.
+        n = 400
+        strain = np.concatenate([np.linspace(0, 0.9, 10), 1 + np.arange(n) * 0.01])
+        p = np.concatenate([np.full(10, 100.0), np.tile([1.0, 3.0], n // 2)])
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "run.h5")
+            with h5py.File(path, "w") as f:
+                for name, values in (("strain", strain), ("pressure", p), ("shear_stress", np.full(len(p), 0.6))):
+                    f.create_dataset(f"observables/{name}/value", data=values)
+            (ratio, ratio_error), (cv, _) = convergence.row_statistics(path, 1.0)
+        self.assertAlmostEqual(ratio, 0.4, places=12)
+        self.assertAlmostEqual(cv, 0.5, places=12)
+        self.assertLess(ratio_error, 1e-3)
 
 
 GRID = """CONV_POINTS       := 0.700:0.50:0.00
@@ -169,7 +199,7 @@ class ConvergenceMakeTest(unittest.TestCase):
                 # The extra tolerance is a series of its own at one step.
                 self.assertEqual(sorted(set(steps[tol == 1e-8])), [1e-3])
                 self.assertEqual(sorted(set(np.round(nu, 3))), [0.5, 0.7])
-                for key in ("p", "s_over_p", "z", "xi", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
+                for key in ("p", "s_over_p", "s_over_p_rows", "p_cv", "z", "xi", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
                     self.assertIn(key, obs)
                 classes = [c.decode() if isinstance(c, bytes) else c for c in f["classes/class"][()]]
                 self.assertTrue(set(classes) <= {"converged", "converging", "regularisation-dependent", "unsettled"})
