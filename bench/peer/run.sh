@@ -7,6 +7,7 @@
 #   bash bench/peer/run.sh table          # only print the tables from what is already in $OUT
 #   bash bench/peer/run.sh friction       # μ = 0.4, ν = 0.78: LAMMPS with tangential history and gf-shear, timed
 #   bash bench/peer/run.sh friction-table # only print the friction tables from $OUT/friction
+#   bash bench/peer/run.sh rigid          # LAMMPS at RIGID_MACH beside the convergence study's runs (rigid limit)
 #
 # Environment (defaults in brackets):
 #   OUT [build-peer/peer]   scratch directory for every generated file (never committed)
@@ -197,6 +198,41 @@ table() {
 }
 
 need
+# The rigid limit (docs/results/convergence.md): LAMMPS at RIGID_MACH from the convergence study's
+# packing (RIGID_PACKING, N = 1000, ν = 0.80), e = RESTITUTION, RIGID_STRAIN strain units, timed,
+# beside the study's gf-shear runs of that point at every step (RIGID_RUNS), all through `peer.py
+# stats` (ratio of means, blocks of one strain unit from strain 1). Needs the study's runs
+# (make -f Makefile.sweeps convergence).
+RIGID_PACKING="${RIGID_PACKING:-$ROOT/runs/convergence/pack_n1000_nu0.800_s1.h5}"
+RIGID_RUNS="${RIGID_RUNS:-$ROOT/runs/convergence/conv_n1000_nu0.800_e0.50_mu0.00_dt*_tol1e-10_s1.h5}"
+RIGID_MACH="${RIGID_MACH:-1.3e-3 4e-4 1.3e-4}"
+RIGID_STRAIN="${RIGID_STRAIN:-20}"
+rigid() {
+  local M dir f
+  [ -s "$RIGID_PACKING" ] || { echo "no $RIGID_PACKING: run make -f Makefile.sweeps convergence first" >&2; exit 2; }
+  for M in $RIGID_MACH; do
+    dir="$OUT/rigid/lmp_M$M"
+    if [ ! -s "$dir/cpu.txt" ]; then
+      log "LAMMPS M=$M, $RIGID_STRAIN strain units"
+      $PEER deck "$RIGID_PACKING" "$dir" --rate 1 --mach "$M" --restitution "$RESTITUTION" --strain "$RIGID_STRAIN" \
+        --dt-fraction "$DT_FRACTION" >/dev/null
+      (cd "$dir" && /usr/bin/time -f "%U %S" -o time.txt lmp -in in.shear -log log.lammps -nocite -screen none)
+      awk '{ print $1 + $2 }' "$dir/time.txt" >"$dir/cpu.txt"
+    fi
+  done
+  printf '| model | setting | CPU s | p/γ̇² | s/p | T/γ̇² |\n|---|---|---|---|---|---|\n'
+  for M in $RIGID_MACH; do
+    dir="$OUT/rigid/lmp_M$M"
+    $PEER stats "$dir/series.txt" | $PY -c "import json, sys; d = json.load(sys.stdin); print(f\"| LAMMPS | M = $M | $(cat "$dir/cpu.txt") | {d['p']:.2f} ± {d['p_err']:.2f} | {d['mu']:.4f} ± {d['mu_err']:.4f} | {d['T']:.3f} ± {d['T_err']:.3f} |\")"
+  done
+  for f in $RIGID_RUNS; do
+    [ -s "$f" ] || continue
+    echo "$f"
+  done | while read -r f; do
+    $PEER stats "$f" | $PY -c "import json, sys, h5py; d = json.load(sys.stdin); h = h5py.File('$f', 'r')['parameters'].attrs; print(f\"| gf-shear | γ̇dt = {float(h['dt']) * abs(float(h['rate'])):g} | — | {d['p']:.2f} ± {d['p_err']:.2f} | {d['mu']:.4f} ± {d['mu_err']:.4f} | {d['T']:.3f} ± {d['T_err']:.3f} |\")"
+  done | sort -t'=' -k2 -g -r
+}
+
 case "$MODE" in
   table) table ;;
   timing | convergence | all)
@@ -210,5 +246,6 @@ case "$MODE" in
   mach) build; mach_series; table ;;
   friction) build; friction; friction_table ;;
   friction-table) friction_table ;;
-  *) echo "usage: bash bench/peer/run.sh [timing|convergence|conv-only|mach|table|friction|friction-table]" >&2; exit 2 ;;
+  rigid) need; rigid ;;
+  *) echo "usage: bash bench/peer/run.sh [timing|convergence|conv-only|mach|table|friction|friction-table|rigid]" >&2; exit 2 ;;
 esac
