@@ -12,7 +12,7 @@
 # contacts within H mean diameters, each H of CONV_CONTACT_GAPS). The summary, convergence.h5 and convergence.md
 # (pipelines/analysis/convergence.py): per state point and observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
-# exponent, or unsettled).
+# exponent, or unsettled), and $(FIGURES)/fig4_2_step.png, Fig. 4.2's companion at fixed γ̇.
 CONVERGENCE ?= pipelines/sizes/convergence.mk
 include $(CONVERGENCE)
 CONV_RUNS ?= runs/convergence
@@ -49,7 +49,8 @@ CONV_TABLES := $(foreach k,steady correlate network kinetic $(CONV_CONTACT_GAPS:
 CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
 
-convergence-files: $(CONV_SUMMARY)
+CONV_FIGURE := $(FIGURES)/fig4_2_step.png
+convergence-files: $(CONV_SUMMARY) $(CONV_FIGURE)
 
 # Stem "<N>_nu<ν>_e<e>_mu<μ>_dt<γ̇dt>_tol<tol>_s<seed>": word $(2) split at "_", prefix $(1) removed.
 conv_arg = $(patsubst $(1)%,%,$(word $(2),$(subst _, ,$(3))))
@@ -90,3 +91,7 @@ $(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $
 $(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS_STAMP) $(CONV_ANALYSIS) | $(CONV_RUNS)/
 	$(PYTHON) pipelines/analysis/convergence.py --default-step $(CONV_DEFAULT_STEP) \
 	  --reference $(CONV_REFERENCE) -o $(CONV_RUNS)/convergence.h5 --markdown $(CONV_RUNS)/convergence.md $(CONV_TABLES)
+
+# Fig. 4.2's companion: p, s/p and T against the step at fixed γ̇.
+$(CONV_FIGURE): $(CONV_RUNS)/convergence.h5 pipelines/plot/convergence_step.py $(GRANFLOW_PY) | $(FIGURES)/
+	$(PYTHON) pipelines/plot/convergence_step.py $< $@

@@ -180,7 +180,7 @@ class ConvergenceMakeTest(unittest.TestCase):
         cmd = [
             "make", "--no-print-directory", "-f", "Makefile.sweeps", f"BIN={os.environ['GRANFLOW_BIN']}",
             f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
-            *extra, "convergence-files",
+            f"FIGURES={d}/figures", *extra, "convergence-files",
         ]
         return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
 
@@ -216,6 +216,8 @@ class ConvergenceMakeTest(unittest.TestCase):
             self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-08", md)
             self.assertIn("γ̇dt = 0.001 (default)", md)
             self.assertIn("| z (age ≥ 2), gap 0.001σ |", md)
+            with open(f"{d}/figures/fig4_2_step.png", "rb") as fh:
+                self.assertEqual(fh.read(8), b"\x89PNG\r\n\x1a\n")
             # Nothing left to do.
             q = self.make(d, "2e-3 1e-3 5e-4", "-q")
             self.assertEqual(q.returncode, 0, q.stdout + q.stderr)
