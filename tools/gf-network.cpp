@@ -2,6 +2,7 @@
 // gf-shear trajectories, with xi/xi_el from a gf-correlate table.
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
@@ -30,9 +31,10 @@ int main(int argc, char** argv) {
     cli.text_option("correlation", 0, "TABLE",
                     "gf-correlate table made with --reference on these runs (matched by each run file's sha256): "
                     "xi/xi_el for the sums of eqs. 6.27-6.29; without it the predicted sides are NaN");
-    cli.text_option("xi", 0, "abs|signed",
+    cli.text_option("xi", 0, "abs|signed|signed-length",
                     "which xi/xi_el of the table: abs = xi_abs_ratio (decay length of |C|, the xi of the thesis' "
-                    "figures), signed = xi_ratio (eq. 5.2 on the signed C)",
+                    "figures), signed = xi_ratio (eq. 5.2 on the signed C per unit area), signed-length = "
+                    "xi_length_ratio (eq. 5.2 on the signed C per unit length)",
                     "abs");
     cli.needs("xi", "correlation");
     cli.real_option("from-strain", 0, "S", "average the rows and frames at shear strain >= S", "0.5");
@@ -64,8 +66,9 @@ int main(int argc, char** argv) {
     s.deflection_bins = count("deflection-bins", 4);
     s.blocks = count("blocks", 2);
     const std::string xi = cli.text("xi");
-    if (xi != "abs" && xi != "signed") throw UsageError("option --xi: must be abs or signed, got '" + xi + "'");
-    s.signed_xi = xi == "signed";
+    const std::optional<correlation::XiReading> reading = correlation::parse_xi_reading(xi);
+    if (!reading) throw UsageError("option --xi: must be abs, signed or signed-length, got '" + xi + "'");
+    s.xi = *reading;
     if (cli.given("correlation")) {
       s.correlation = cli.text("correlation");
       if (s.correlation.empty()) throw UsageError("option --correlation: no file given");

@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
@@ -95,8 +96,15 @@ RunSums accumulate_run(const Run& run, const LagGrid& grid, const Accumulate& ac
   return s;
 }
 
-double xi_error_of(const std::vector<PairSums>& blocks) {
-  return jackknife_errors(blocks, [](const PairSums& s) { return std::vector<double>{correlation_length(s)}; })[0];
+double xi_error_of(const std::vector<PairSums>& blocks, Density density = Density::area) {
+  return jackknife_errors(blocks,
+                          [&](const PairSums& s) { return std::vector<double>{correlation_length(s, density)}; })[0];
+}
+
+// ξ/ξ_el and its error, the errors of ξ and ξ_el combined in quadrature.
+std::pair<double, double> ratio_of(double xi, double xi_error, double el, double el_error) {
+  const double ratio = xi / el;
+  return {ratio, std::fabs(ratio) * std::hypot(xi_error / xi, el_error / el)};
 }
 
 RunResult summarise(const RunSums& s, const LagGrid& grid, const Settings& settings, std::uint64_t seed) {
@@ -109,6 +117,9 @@ RunResult summarise(const RunSums& s, const LagGrid& grid, const Settings& setti
   r.xi = correlation_length(total);
   r.xi_error = xi_error_of(s.blocks);
   r.xi_truncated = truncated_correlation_length(total);
+  r.xi_length = correlation_length(total, Density::length);
+  r.xi_length_error = xi_error_of(s.blocks, Density::length);
+  r.xi_length_truncated = truncated_correlation_length(total, Density::length);
   r.xi_theta = angular_correlation_length(total, grid);
   r.xi_theta_error = jackknife_errors(s.blocks, [&](const PairSums& x) { return angular_correlation_length(x, grid); });
   r.fit = fit_anisotropy(sector_centres(grid), r.xi_theta, r.xi_theta_error, r.xi, grid.sector_width());
@@ -360,6 +371,8 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     record_shape(report.references[i]);
     report.reference_xi.push_back(correlation_length(total_of(sums.blocks, report.grid)));
     report.reference_xi_error.push_back(xi_error_of(sums.blocks));
+    report.reference_xi_length.push_back(correlation_length(total_of(sums.blocks, report.grid), Density::length));
+    report.reference_xi_length_error.push_back(xi_error_of(sums.blocks, Density::length));
     const MagnitudeLength m = magnitude_length(sums.blocks, report.grid, settings.magnitude);
     report.reference_xi_abs.push_back(m.xi);
     report.reference_xi_abs_error.push_back(m.xi_error);
@@ -374,6 +387,8 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     // All reference frames form one ensemble: ξ of the pooled sums, jackknife over all blocks.
     report.xi_el = correlation_length(total_of(pooled, report.grid));
     report.xi_el_error = xi_error_of(pooled);
+    report.xi_length_el = correlation_length(total_of(pooled, report.grid), Density::length);
+    report.xi_length_el_error = xi_error_of(pooled, Density::length);
     // ξ_|C| likewise: the pooled blocks, with noise floors from their pooled jackknife.
     const MagnitudeLength m = magnitude_length(pooled, report.grid, settings.magnitude);
     report.xi_abs_el = m.xi;
@@ -388,6 +403,10 @@ Report correlate(const std::vector<std::string>& runs, const std::vector<std::st
     report.xi_ratio_error.push_back(std::fabs(ratio) *
                                     std::hypot(r.xi_error / r.xi, report.xi_el_error / report.xi_el));
     points.push_back({run.packing_fraction, run.restitution, run.friction, r.xi, r.xi_error});
+    const auto [length_ratio, length_ratio_error] =
+        ratio_of(r.xi_length, r.xi_length_error, report.xi_length_el, report.xi_length_el_error);
+    report.xi_length_ratio.push_back(length_ratio);
+    report.xi_length_ratio_error.push_back(length_ratio_error);
     const MagnitudeLength& m = r.magnitude;
     const double abs_ratio = m.xi / report.xi_abs_el;
     report.xi_abs_ratio.push_back(abs_ratio);

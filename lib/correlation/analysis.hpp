@@ -88,6 +88,9 @@ struct RunResult {
   std::vector<double> c, c_error;    // C̄ per radial bin
   std::vector<double> xi_truncated;  // ξ with integrals up to each bin's upper edge
   double xi = 0, xi_error = 0;
+  // ξ with C per unit length (force_correlation.hpp, Density::length), and truncated likewise.
+  double xi_length = 0, xi_length_error = 0;
+  std::vector<double> xi_length_truncated;
   std::vector<double> xi_theta, xi_theta_error;
   AnisotropyFit fit;
   MagnitudeLength magnitude;  // ξ_|C|, its tail share and flag, ξ_|C|(θ)
@@ -120,6 +123,11 @@ struct Report {
   double xi_el = AnisotropyFit::kNaN, xi_el_error = AnisotropyFit::kNaN;
   std::vector<double> xi_ratio, xi_ratio_error;  // per run
   std::vector<Crossing> crossings;
+  // ξ_length (C per unit length): per reference run, ξ_el of the pooled reference blocks (NaN
+  // with --xi-el, which gives ξ_el of the area reading only), and the ratio per run.
+  std::vector<double> reference_xi_length, reference_xi_length_error;
+  double xi_length_el = AnisotropyFit::kNaN, xi_length_el_error = AnisotropyFit::kNaN;
+  std::vector<double> xi_length_ratio, xi_length_ratio_error;
   // The same for ξ_|C|: ξ_el from the pooled reference blocks; crossings over the measurable
   // runs only, one entry per (e, μ) of `crossings`, in the same order.
   std::vector<double> reference_xi_abs, reference_xi_abs_error;

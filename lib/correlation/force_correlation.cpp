@@ -214,8 +214,8 @@ LoadedGrains loaded_grains(const io::Frame& frame) {
 }
 
 PairSums::PairSums(const LagGrid& grid)
-    : w(grid.radial_bins, 0.0), w_over_lag(grid.radial_bins, 0.0), sector(grid.angle_bins, 0.0),
-      sector_w(std::size_t(grid.angle_bins) * std::size_t(grid.coarse_bins()), 0.0),
+    : w(grid.radial_bins, 0.0), w_over_lag(grid.radial_bins, 0.0), w_times_lag(grid.radial_bins, 0.0),
+      sector(grid.angle_bins, 0.0), sector_w(std::size_t(grid.angle_bins) * std::size_t(grid.coarse_bins()), 0.0),
       sector_w_over_lag(sector_w.size(), 0.0) {}
 
 PairSums& PairSums::operator+=(const PairSums& other) {
@@ -223,6 +223,7 @@ PairSums& PairSums::operator+=(const PairSums& other) {
   for (std::size_t b = 0; b < w.size(); ++b) {
     w[b] += other.w[b];
     w_over_lag[b] += other.w_over_lag[b];
+    w_times_lag[b] += other.w_times_lag[b];
   }
   for (std::size_t k = 0; k < sector.size(); ++k) sector[k] += other.sector[k];
   for (std::size_t k = 0; k < sector_w.size(); ++k) {
@@ -262,18 +263,34 @@ std::vector<double> isotropic_correlation(const PairSums& sums, const LagGrid& g
   return c;
 }
 
-double correlation_length(const PairSums& sums) {
-  const double num = std::accumulate(sums.w.begin(), sums.w.end(), 0.0);
-  const double den = std::accumulate(sums.w_over_lag.begin(), sums.w_over_lag.end(), 0.0);
+namespace {
+
+// The per-bin sums of ∫dℓ ℓC and ∫dℓ C (each up to the factor 1/(2πW) of the area reading,
+// 1/W of the length reading): (Σw, Σw/ℓ) for C̄ per area, (Σwℓ, Σw) for C_L per length.
+struct Moments {
+  const std::vector<double>& numerator;
+  const std::vector<double>& denominator;
+};
+Moments moments(const PairSums& sums, Density density) {
+  return density == Density::area ? Moments{sums.w, sums.w_over_lag} : Moments{sums.w_times_lag, sums.w};
+}
+
+}  // namespace
+
+double correlation_length(const PairSums& sums, Density density) {
+  const Moments m = moments(sums, density);
+  const double num = std::accumulate(m.numerator.begin(), m.numerator.end(), 0.0);
+  const double den = std::accumulate(m.denominator.begin(), m.denominator.end(), 0.0);
   return den != 0 ? num / den : kNaN;
 }
 
-std::vector<double> truncated_correlation_length(const PairSums& sums) {
+std::vector<double> truncated_correlation_length(const PairSums& sums, Density density) {
+  const Moments m = moments(sums, density);
   std::vector<double> xi(sums.w.size());
   double num = 0, den = 0;
   for (std::size_t b = 0; b < xi.size(); ++b) {
-    num += sums.w[b];
-    den += sums.w_over_lag[b];
+    num += m.numerator[b];
+    den += m.denominator[b];
     xi[b] = den != 0 ? num / den : kNaN;
   }
   return xi;

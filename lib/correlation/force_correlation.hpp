@@ -33,6 +33,12 @@
 // all sectors is ξ. A mean of the lags in (0, ℓ_max) with weights C(ℓ, θ)dℓ, it can leave
 // that range only where C takes both signs: NaN where Σ_k w/ℓ = 0 or the ratio is outside
 // (0, ℓ_max] (the two sums of opposite signs, or Σ_k w/ℓ nearly cancelled).
+//   ξ_length, eq. 5.2 with C read as a density per unit length, C_L(ℓ) = 2πℓ C̄(ℓ)
+// = (1/W) Σ_{i>j} w_ij δ(ℓ − ℓ_ij) (the radial pair sum per unit ℓ, not divided by 2πℓ):
+//   ξ_length = ∫_0^ℓmax dℓ ℓ C_L / ∫_0^ℓmax dℓ C_L = ∫ ℓ² C̄ dℓ / ∫ ℓ C̄ dℓ
+//            = Σ_{ℓ_ij<ℓmax} w_ij ℓ_ij / Σ_{ℓ_ij<ℓmax} w_ij,
+// exact likewise (Σwℓ and Σw per bin). For isolated binary contacts it is the F²-weighted
+// arithmetic mean of d (≥ the harmonic mean ξ); for C̄ = A e^{−ℓ/λ} (ℓ_max → ∞), 2λ against ξ = λ.
 //   C̄ in radial bin b: Σ_{pairs in b} w / (W · π(ℓ_{b+1}² − ℓ_b²)).
 //   The map: ½Σ w at ±r_ij on a square grid of lag vectors (lab frame, bins of side h
 // whose edges are the multiples of h, so the lag axes are bin edges), divided by W h².
@@ -91,6 +97,7 @@ struct PairSums {
   double norm = 0;                        // W = Σ_i F^i·F^i
   std::vector<double> w;                  // [radial_bins]   Σ_{i>j} F^i·F^j
   std::vector<double> w_over_lag;         // [radial_bins]   Σ_{i>j} F^i·F^j / ℓ_ij
+  std::vector<double> w_times_lag;        // [radial_bins]   Σ_{i>j} F^i·F^j · ℓ_ij (ξ_length only)
   std::vector<double> sector;             // [angle_bins]    Σ_{i>j} F^i·F^j by angle of r_ij mod π
   std::vector<double> sector_w;           // [angle_bins][coarse_bins]  Σ F^i·F^j by sector and coarse bin
   std::vector<double> sector_w_over_lag;  // [angle_bins][coarse_bins]  Σ F^i·F^j / ℓ_ij likewise
@@ -121,11 +128,16 @@ class Correlator {
   std::unique_ptr<const SectorIndex> sectors_;
 };
 
+// The density C is read as in eq. 5.2: per unit area (C̄, the reproduction's reading: ξ) or
+// per unit length (C_L = 2πℓ C̄: ξ_length), see the header comment.
+enum class Density { area, length };
+
 // Estimators from (summed) pair sums; NaN where undefined (W = 0 or empty sums).
 std::vector<double> isotropic_correlation(const PairSums& sums, const LagGrid& grid);  // C̄ per radial bin
-double correlation_length(const PairSums& sums);                                       // ξ, eq. 5.2
+// ξ, eq. 5.2: Σw / Σ(w/ℓ) (area) or Σwℓ / Σw (length).
+double correlation_length(const PairSums& sums, Density density = Density::area);
 // ξ with both integrals truncated at the upper edge of each radial bin (convergence check).
-std::vector<double> truncated_correlation_length(const PairSums& sums);
+std::vector<double> truncated_correlation_length(const PairSums& sums, Density density = Density::area);
 std::vector<double> angular_correlation_length(const PairSums& sums, const LagGrid& grid);    // ξ(θ_k)
 std::vector<double> direction_correlation_length(const PairSums& sums, const LagGrid& grid);  // ξ_dir(θ_k)
 // C on the map grid: ½(map at ℓ + map at −ℓ) / (W h²); NaN in bins not wholly inside

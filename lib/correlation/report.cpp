@@ -160,6 +160,26 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_ratio", {n}, report.xi_ratio, "xi / xi_el", "1", per_run);
   w.write("/correlation/xi_ratio_error", {n}, report.xi_ratio_error,
           "standard error of xi / xi_el (errors of xi and xi_el combined in quadrature)", "1", per_run);
+  // ξ with C read as a density per unit length (force_correlation.hpp, Density::length).
+  w.write("/correlation/xi_length", {n}, column(n, [&](std::size_t i) { return res[i].xi_length; }),
+          "correlation length of eq. 5.2 with C read as a density per unit length, C_L(l) = 2 pi l C(l) (the "
+          "radial pair sum per unit l): int l C_L dl / int C_L dl = sum (w l) / sum w over pairs with l < max_lag "
+          "(exact integrals of the sampled C); xi is the same with C per unit area",
+          "length", per_run);
+  w.write("/correlation/xi_length_error", {n}, column(n, [&](std::size_t i) { return res[i].xi_length_error; }),
+          "jackknife standard error of xi_length", "length", per_run);
+  w.write("/correlation/xi_length_truncated", {n, nb}, rows(res, &RunResult::xi_length_truncated),
+          "xi_length with both integrals truncated at the bin's upper edge (convergence with max_lag)", "length",
+          per_run);
+  w.write("/correlation/xi_length_el", {}, std::vector<double>{report.xi_length_el},
+          "elastic (dilute) reference length for xi_length: xi_length of all reference frames pooled (NaN without "
+          "--reference; --xi-el gives xi_el only)",
+          "length");
+  w.write("/correlation/xi_length_el_error", {}, std::vector<double>{report.xi_length_el_error},
+          "jackknife standard error of xi_length_el (over all reference blocks)", "length");
+  w.write("/correlation/xi_length_ratio", {n}, report.xi_length_ratio, "xi_length / xi_length_el", "1", per_run);
+  w.write("/correlation/xi_length_ratio_error", {n}, report.xi_length_ratio_error,
+          "standard error of xi_length / xi_length_el (errors combined in quadrature)", "1", per_run);
   // ξ_|C| (decay_length.hpp).
   auto magnitude = [&](const char* name, auto value, const char* meaning, const char* units) {
     w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].magnitude.*value; }),
@@ -331,6 +351,10 @@ void write_report(const std::string& path, const Report& report, const io::Param
     write_runs(w, "/reference", report.references);
     w.write("/reference/xi", {m}, report.reference_xi, "xi (eq. 5.2) of the reference run", "length");
     w.write("/reference/xi_error", {m}, report.reference_xi_error, "jackknife standard error of xi", "length");
+    w.write("/reference/xi_length", {m}, report.reference_xi_length,
+            "xi_length (eq. 5.2 with C per unit length) of the reference run", "length");
+    w.write("/reference/xi_length_error", {m}, report.reference_xi_length_error,
+            "jackknife standard error of xi_length", "length");
     w.write("/reference/xi_abs", {m}, report.reference_xi_abs, "xi_abs (decay length of |C|) of the reference run",
             "length");
     w.write("/reference/xi_abs_error", {m}, report.reference_xi_abs_error, "jackknife standard error of xi_abs",

@@ -10,7 +10,9 @@
 //   /correlation/       attrs: mean_diameter, bin_width, max_lag, angle_bins, map_bin,
 //                       from_strain and the estimator's definition
 //     r [B], C, C_error, xi_truncated [R][B]; xi, xi_error [R]; xi_el, xi_el_error [];
-//     xi_ratio, xi_ratio_error [R]; (decay length of |C|, decay_length.hpp:) xi_abs,
+//     xi_ratio, xi_ratio_error [R]; (C per unit length:) xi_length, xi_length_error [R],
+//     xi_length_truncated [R][B], xi_length_el, xi_length_el_error [],
+//     xi_length_ratio, xi_length_ratio_error [R]; (decay length of |C|, decay_length.hpp:) xi_abs,
 //     xi_abs_error, xi_abs_tail, xi_abs_tail_error, measurable [R]; xi_abs_theta,
 //     xi_abs_theta_error [R][K]; a0_abs, a0_abs_error, theta0_abs, theta0_abs_error,
 //     fit_abs_chi2_dof [R]; xi_abs_el, xi_abs_el_error []; xi_abs_ratio, xi_abs_ratio_error [R];
@@ -21,7 +23,8 @@
 //     mean_force, mean_force_error, mean_binary_force, mean_binary_force_error [R];
 //     peak, peak_confidence, mode, p0_over_pmax [R]
 //   /reference/         (with --reference) input, packing_fraction, restitution, friction,
-//                       xi, xi_error, xi_abs, xi_abs_error, one row per reference run
+//                       xi, xi_error, xi_length, xi_length_error, xi_abs, xi_abs_error,
+//                       one row per reference run
 //   /sweep/             (when ξ_el is known) restitution, friction, nu_bc, nu_bc_error,
 //                       nu_below, nu_above, runs, sign_changes, status [G]; regime [R];
 //                       the same for xi_abs over the measurable runs: nu_bc_abs, nu_bc_abs_error,

@@ -93,6 +93,7 @@ class LagBinner {
     const int b = std::min(int(lag * inv_bin_), last_bin_);
     sums_.w[b] += w;
     sums_.w_over_lag[b] += w * inv_lag;
+    sums_.w_times_lag[b] += w * lag;
     // |x| < ℓ_max ≤ map_half·h, so x/h + map_half > 0 and truncation is the floor.
     const int bin =
         std::min(int(dy * inv_h_ + half_), side_ - 1) * side_ + std::min(int(dx * inv_h_ + half_), side_ - 1);

@@ -20,10 +20,39 @@ double read_scalar(hid_t file, const std::string& name) {
   return x;
 }
 
+struct Reading {
+  XiReading reading;
+  const char* name;
+  const char* ratio;  // dataset of /correlation
+  const char* el;
+};
+constexpr Reading kReadings[] = {
+    {XiReading::abs, "abs", "xi_abs_ratio", "xi_abs_el"},
+    {XiReading::signed_area, "signed", "xi_ratio", "xi_el"},
+    {XiReading::signed_length, "signed-length", "xi_length_ratio", "xi_length_el"},
+};
+
+const Reading& reading_of(XiReading reading) {
+  for (const Reading& r : kReadings)
+    if (r.reading == reading) return r;
+  return kReadings[0];
+}
+
 }  // namespace
 
-std::vector<XiValue> read_xi_ratios(const std::string& table, const std::vector<std::string>& runs, bool signed_xi,
+const char* xi_reading_name(XiReading reading) { return reading_of(reading).name; }
+
+const char* xi_ratio_dataset(XiReading reading) { return reading_of(reading).ratio; }
+
+std::optional<XiReading> parse_xi_reading(const std::string& name) {
+  for (const Reading& r : kReadings)
+    if (name == r.name) return r.reading;
+  return std::nullopt;
+}
+
+std::vector<XiValue> read_xi_ratios(const std::string& table, const std::vector<std::string>& runs, XiReading reading,
                                     const std::string& program) {
+  const bool signed_xi = reading != XiReading::abs;
   auto bad = [&](const std::string& what) { return UsageError("'" + table + "': " + what); };
   io::silence_hdf5_errors();
 #if H5_VERSION_GE(1, 12, 0)
@@ -46,11 +75,13 @@ std::vector<XiValue> read_xi_ratios(const std::string& table, const std::vector<
     };
     if (attribute("program") != "gf-correlate")
       throw bad("not a gf-correlate table (/parameters program is not gf-correlate); --correlation needs one");
-    const std::string ratio = signed_xi ? "/correlation/xi_ratio" : "/correlation/xi_abs_ratio";
-    const std::string el = signed_xi ? "/correlation/xi_el" : "/correlation/xi_abs_el";
+    const std::string ratio = std::string("/correlation/") + reading_of(reading).ratio;
+    const std::string el = std::string("/correlation/") + reading_of(reading).el;
     for (const std::string& name : {ratio, ratio + "_error", el})
       if (!io::exists(f, name))
-        throw bad("no " + name + ": made without --reference (" + program + " needs xi_el to read xi/xi_el)");
+        throw bad("no " + name + ": made without --reference" +
+                  (reading == XiReading::signed_length ? " or by a gf-correlate older than xi_length" : "") + " (" +
+                  program + " needs xi_el to read xi/xi_el)");
     const double xi_el = read_scalar(f, el);
     if (!std::isfinite(xi_el))
       throw bad(el + " is not finite: made without --reference (" + program + " needs xi_el to read xi/xi_el)");

@@ -331,8 +331,9 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
 
 }  // namespace
 
-std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs, bool signed_xi) {
-  return correlation::read_xi_ratios(table, runs, signed_xi, "gf-network");
+std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs,
+                                      correlation::XiReading reading) {
+  return correlation::read_xi_ratios(table, runs, reading, "gf-network");
 }
 
 Table analyse(const std::vector<std::string>& runs, const TableSettings& settings) {
@@ -341,7 +342,7 @@ Table analyse(const std::vector<std::string>& runs, const TableSettings& setting
   table.settings = settings;
   table.has_correlation = !settings.correlation.empty();
   std::vector<XiValue> xi(runs.size(), XiValue{kNaN, kNaN, false});
-  if (table.has_correlation) xi = read_correlation(settings.correlation, runs, settings.signed_xi);
+  if (table.has_correlation) xi = read_correlation(settings.correlation, runs, settings.xi);
   // Every run's window is checked before any frame is read.
   double total = 0, done = 0;
   for (const auto& path : runs) {
@@ -430,7 +431,7 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
   parameters.set("angle_bins", std::int64_t(table.settings.angle_bins));
   parameters.set("deflection_bins", std::int64_t(table.settings.deflection_bins));
   parameters.set("blocks", std::int64_t(table.settings.blocks));
-  if (table.has_correlation) parameters.set("xi", table.settings.signed_xi ? "signed" : "abs");
+  if (table.has_correlation) parameters.set("xi", correlation::xi_reading_name(table.settings.xi));
   w.write_parameters(parameters);
   io::Parameters per_run;
   per_run.set("rows", "one row per RUN.h5, in command-line order");
@@ -544,19 +545,20 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
                 "error of " + name + ": delta method over the frames plus d/d(xi/xi_el) times xi_ratio_error");
     }
   }
-  predicted("xi_ratio", "1",
-            table.settings.signed_xi ? "xi/xi_el of the correlation table (its xi_ratio)"
-                                     : "xi/xi_el of the correlation table (its xi_abs_ratio)");
+  predicted(
+      "xi_ratio", "1",
+      std::string("xi/xi_el of the correlation table (its ") + correlation::xi_ratio_dataset(table.settings.xi) + ")");
   predicted("xi_ratio_error", "1", "standard error of xi_ratio (the table's)");
   integers("/prediction/xi_measurable", &RunRow::xi_measurable,
-           "1: the table marks the run's xi measurable (--xi abs: its measurable; signed: xi_ratio finite)");
+           "1: the table marks the run's xi measurable (--xi abs: its measurable; signed, signed-length: the "
+           "ratio finite)");
   predicted("sum_limit", "1", "L = max(xi/xi_el - 1, 0), the upper limit of the sums over links");
   predicted("network_factor", "1", "M = min(Phi (z - 1), 1)");
   predicted("path_factor", "1", "Q = Psi (z - 1)");
   integers("/prediction/continuation_real", &RunRow::continuation_real,
            "1: the continued sums are real; 0: a negative base with a non-integer limit (floor values used)");
   io::Parameters group;
-  group.set("xi_source", !table.has_correlation ? "none" : table.settings.signed_xi ? "xi_ratio" : "xi_abs_ratio");
+  group.set("xi_source", !table.has_correlation ? "none" : correlation::xi_ratio_dataset(table.settings.xi));
   w.write_attributes("/prediction", group);
   w.close();
 }

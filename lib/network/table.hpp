@@ -30,7 +30,8 @@ struct TableSettings {
   shear_run::WindowSettings window{};
   std::size_t angle_bins = 36, deflection_bins = 36, blocks = 10;
   std::string correlation;  // gf-correlate table with --reference; empty: no prediction
-  bool signed_xi = false;   // --xi signed: xi_ratio instead of xi_abs_ratio
+  // --xi: which ξ/ξ_el of the table (abs: xi_abs_ratio, signed: xi_ratio, signed-length: xi_length_ratio)
+  correlation::XiReading xi = correlation::XiReading::abs;
   // --contact-gap: geometric contacts (geometric_contacts.hpp) within this gap, in mean
   // diameters, instead of the force-bearing ones; NaN: force-bearing (the default).
   double contact_gap = std::numeric_limits<double>::quiet_NaN();
@@ -57,7 +58,8 @@ struct Table {
 // --reference), a run it does not hold.
 // (correlation/table_lookup.hpp, shared with gf-stz fit; messages name gf-network.)
 using correlation::XiValue;
-std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs, bool signed_xi);
+std::vector<XiValue> read_correlation(const std::string& table, const std::vector<std::string>& runs,
+                                      correlation::XiReading reading);
 
 // The whole analysis, with a progress bar over the stored frames of every run unless
 // settings.quiet. UsageError (one line naming the file) for any input it cannot use.

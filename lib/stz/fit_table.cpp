@@ -219,8 +219,9 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
     table.runs.push_back(std::move(row));
   }
   if (by_xi) {
-    const std::vector<correlation::XiValue> xi =
-        correlation::read_xi_ratios(settings.correlation, runs, settings.signed_xi, "gf-stz fit");
+    const std::vector<correlation::XiValue> xi = correlation::read_xi_ratios(
+        settings.correlation, runs,
+        settings.signed_xi ? correlation::XiReading::signed_area : correlation::XiReading::abs, "gf-stz fit");
     // A ratio gf-correlate calls not measurable is the one the cell allows (the correlations
     // reach it): ξ is at least that long, so the ratio is a lower bound and still decides.
     for (std::size_t k = 0; k < runs.size(); ++k) {

@@ -154,6 +154,12 @@ TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
   EXPECT_LT(read_doubles(out, "/correlation/xi_error")[0], 1e-12) << "every block has ξ = d exactly";
   EXPECT_NEAR(read_doubles(out, "/forces/mean_force")[0], s.force / s.contacts, 1e-6);
   EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_el")));
+  // C per unit length: the pairs' distance too (one distance), and no ξ_el without a reference.
+  EXPECT_NEAR(read_doubles(out, "/correlation/xi_length")[0], 1.3, 1e-12);
+  EXPECT_LT(read_doubles(out, "/correlation/xi_length_error")[0], 1e-12);
+  EXPECT_NEAR(read_doubles(out, "/correlation/xi_length_truncated").back(), 1.3, 1e-12);
+  EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_length_el")));
+  EXPECT_TRUE(std::isnan(read_doubles(out, "/correlation/xi_length_ratio")[0]));
   // ξ_|C| of isolated pairs: all of |C| at d, so the same harmonic mean, measurable.
   EXPECT_NEAR(read_doubles(out, "/correlation/xi_abs")[0], s.w2 / s.w2_over_d, 1e-12);
   EXPECT_EQ(read_ints(out, "/correlation/measurable")[0], 1);
@@ -191,11 +197,15 @@ TEST(GfCorrelate, IsolatedPairsGiveTheirHarmonicMeanDistance) {
        {"/correlation/C", "/correlation/xi_theta", "/correlation/map", "/forces/P", "/runs/restitution",
         "/correlation/xi_theta_direction", "/correlation/xi_theta_direction_error", "/correlation/a0_direction",
         "/correlation/a0_direction_error", "/correlation/theta0_direction", "/correlation/theta0_direction_error",
-        "/correlation/fit_direction_chi2_dof", "/correlation/fit_direction_weighted"}) {
+        "/correlation/fit_direction_chi2_dof", "/correlation/fit_direction_weighted", "/correlation/xi_length",
+        "/correlation/xi_length_error", "/correlation/xi_length_truncated", "/correlation/xi_length_el",
+        "/correlation/xi_length_el_error", "/correlation/xi_length_ratio", "/correlation/xi_length_ratio_error"}) {
     EXPECT_FALSE(string_attribute(out, d, "meaning").empty()) << d;
     EXPECT_FALSE(string_attribute(out, d, "units").empty()) << d;
   }
-  for (const char* d : {"/correlation/xi_theta_direction", "/correlation/a0_direction"})
+  for (const char* d : {"/correlation/xi_theta_direction", "/correlation/a0_direction", "/correlation/xi_length",
+                        "/correlation/xi_length_error", "/correlation/xi_length_truncated",
+                        "/correlation/xi_length_ratio", "/correlation/xi_length_ratio_error"})
     EXPECT_EQ(string_attribute(out, d, "rows"), "one row per input run, in /runs order") << d;
   EXPECT_EQ(dir.entries(), 2) << "only the run and the output";
 }
@@ -284,6 +294,16 @@ TEST(GfCorrelate, SweepGivesNuBcAndClusters) {
   EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/sweep/nu_bc_abs")[0], 0.7 + 0.05 / 0.3 * 0.1, 1e-12);
   EXPECT_EQ(read_ints(dir / "ref_out.h5", "/sweep/status_abs")[0], 0);
   EXPECT_EQ(read_ints(dir / "ref_out.h5", "/sweep/regime_abs"), (std::vector<std::int32_t>{0, 0, 1}));
+  // ξ with C per unit length: one distance per run, so the same ratios from ξ_length_el = 1.
+  EXPECT_NEAR(read_scalar(dir / "ref_out.h5", "/correlation/xi_length_el"), 1.0, 1e-12);
+  EXPECT_NEAR(read_doubles(dir / "ref_out.h5", "/reference/xi_length")[0], 1.0, 1e-12);
+  const auto length_ratio = read_doubles(dir / "ref_out.h5", "/correlation/xi_length_ratio");
+  ASSERT_EQ(length_ratio.size(), 3u);
+  EXPECT_NEAR(length_ratio[0], 1.0, 1e-12);
+  EXPECT_NEAR(length_ratio[1], 1.2, 1e-12);
+  EXPECT_NEAR(length_ratio[2], 1.5, 1e-12);
+  // With --xi-el (ξ_el of the area reading only) there is no ξ_length_el.
+  EXPECT_TRUE(std::isnan(read_scalar(out, "/correlation/xi_length_el")));
 }
 
 // --detect-transient starts where the run's T and p stop rising (frame 20 of 40, strain 2),

@@ -290,6 +290,28 @@ TEST(GfNetwork, PredictionColumnsAreThoseOfTheStoredIngredients) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(read_doubles(out2, "/prediction/xi_ratio")[0], read_doubles(table, "/correlation/xi_ratio")[0]);
 
+  // --xi signed-length reads the table's xi_length_ratio (eq. 5.2 with C per unit length), here
+  // of the run that is not the reference, whose two signed ratios differ.
+  const std::string out_length = dir / "signed_length.h5";
+  r = run_tool("gf-network", other + " -o " + out_length + " --correlation " + table +
+                                 " --xi signed-length --from-strain 0.01 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double length_ratio = read_doubles(table, "/correlation/xi_length_ratio")[1];
+  ASSERT_TRUE(std::isfinite(length_ratio));
+  ASSERT_NE(length_ratio, read_doubles(table, "/correlation/xi_ratio")[1]);
+  EXPECT_EQ(read_doubles(out_length, "/prediction/xi_ratio")[0], length_ratio);
+  EXPECT_EQ(read_doubles(out_length, "/prediction/xi_ratio_error")[0],
+            read_doubles(table, "/correlation/xi_length_ratio_error")[1]);
+  EXPECT_EQ(read_ints(out_length, "/prediction/xi_measurable")[0], 1);
+  EXPECT_EQ(read_doubles(out_length, "/prediction/sum_limit")[0], std::max(length_ratio - 1, 0.0));
+  {
+    io::File f = io::open_file(out_length, false);
+    io::Group g = io::open_group(f.get(), "/prediction");
+    EXPECT_EQ(io::read_string_attribute(io::open_attribute(g.get(), "xi_source").get()), "xi_length_ratio");
+    io::Group p = io::open_group(f.get(), "/parameters");
+    EXPECT_EQ(io::read_string_attribute(io::open_attribute(p.get(), "xi").get()), "signed-length");
+  }
+
   // Without --correlation the predicted sides are NaN, the measured ones are not.
   const std::string out3 = dir / "none.h5";
   r = run_tool("gf-network", run + " -o " + out3 + " --quiet");
@@ -379,6 +401,14 @@ TEST_P(GfNetworkBadInput, FailsWithExitTwoOneLineNoOutput) {
     EXPECT_EQ(run_tool("gf-correlate", run + " -o " + path + " --from-strain 0 --quiet").exit_code, 0);
     return path;
   }();
+  // A table without the per-length columns (as an older gf-correlate wrote them).
+  static const std::string no_length = [&] {
+    const std::string path = dir / "nolength.h5";
+    std::filesystem::copy_file(correlation, path);
+    io::File f = io::open_file(path, true);
+    EXPECT_GE(H5Ldelete(f.get(), "/correlation/xi_length_ratio", H5P_DEFAULT), 0);
+    return path;
+  }();
   static const std::string existing = [&] {
     const std::string path = dir / "existing.h5";
     std::ofstream(path) << "a previous output\n";
@@ -394,6 +424,7 @@ TEST_P(GfNetworkBadInput, FailsWithExitTwoOneLineNoOutput) {
                   {"{correlation}", correlation},
                   {"{other}", other_runs},
                   {"{noref}", no_reference},
+                  {"{nolength}", no_length},
                   {"{existing}", existing},
                   {"{pack}", dense_packing()}},
                  " --quiet");
@@ -420,7 +451,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"correlation_missing", "{run} -o {out} --from-strain 0 --correlation {out}.missing", "missing"},
         BadInput{"xi_without_correlation", "{run} -o {out} --xi signed", "--xi"},
         BadInput{"xi_unknown", "{run} -o {out} --from-strain 0 --correlation {correlation} --xi both",
-                 "--xi: must be abs or signed"},
+                 "--xi: must be abs, signed or signed-length"},
+        BadInput{"xi_unknown_length", "{run} -o {out} --from-strain 0 --correlation {correlation} --xi abs-length",
+                 "--xi: must be abs, signed or signed-length"},
+        BadInput{"xi_length_not_in_table", "{run} -o {out} --from-strain 0 --correlation {nolength} --xi signed-length",
+                 "older than xi_length"},
         BadInput{"angle_bins_too_few", "{run} -o {out} --from-strain 0 --angle-bins 3", "--angle-bins"},
         BadInput{"deflection_bins_too_few", "{run} -o {out} --from-strain 0 --deflection-bins 2", "--deflection-bins"},
         BadInput{"blocks_too_few", "{run} -o {out} --from-strain 0 --blocks 1", "--blocks"},

@@ -71,6 +71,7 @@ Reference brute_force(const io::Frame& f, const LagGrid& grid) {
       const int b = int(lag / grid.bin_width);
       ref.sums.w[b] += w;
       ref.sums.w_over_lag[b] += w / lag;
+      ref.sums.w_times_lag[b] += w * lag;
       double theta = std::atan2(d.y(), d.x());
       if (theta < 0) theta += M_PI;
       if (theta >= M_PI) theta -= M_PI;
@@ -132,6 +133,7 @@ TEST(ForceCorrelation, PairSumsEqualBruteForceWithLeesEdwardsOffsets) {
       const double scale = ref.sums.norm;
       expect_close(sums.w, ref.sums.w, scale, "sum w");
       expect_close(sums.w_over_lag, ref.sums.w_over_lag, scale, "sum w/l");
+      expect_close(sums.w_times_lag, ref.sums.w_times_lag, scale * max_lag, "sum w l");
       expect_close(sums.sector, ref.sums.sector, scale, "sector");
       expect_close(sums.sector_w, ref.sums.sector_w, scale, "sector x coarse bin, w");
       expect_close(sums.sector_w_over_lag, ref.sums.sector_w_over_lag, scale, "sector x coarse bin, w/l");
@@ -158,7 +160,7 @@ TEST(ForceCorrelation, IsolatedBinaryContacts) {
   const LagGrid grid = LagGrid::make(0.04, 10, 12, 0.5);
   io::Frame f;
   f.box = box;
-  double sum_w2 = 0, sum_w2_over_d = 0;
+  double sum_w2 = 0, sum_w2_over_d = 0, sum_w2_d = 0;
   std::vector<double> expected_w(grid.radial_bins, 0.0), expected_sector(grid.angle_bins, 0.0);
   for (int a = 0; a < 9; ++a)
     for (int b = 0; b < 9; ++b) {
@@ -173,6 +175,7 @@ TEST(ForceCorrelation, IsolatedBinaryContacts) {
       add_contact(f, i, i + 1, branch, fn, ft);
       sum_w2 += w2;
       sum_w2_over_d += w2 / d;
+      sum_w2_d += w2 * d;
       expected_w[int(d / grid.bin_width)] -= w2;
       double theta = std::fmod(phi, M_PI);
       expected_sector[int(theta / grid.sector_width())] -= w2;
@@ -182,6 +185,13 @@ TEST(ForceCorrelation, IsolatedBinaryContacts) {
   Correlator(grid).accumulate(loaded_grains(f), sums, map);
   EXPECT_NEAR(sums.norm, 2 * sum_w2, 1e-12 * sum_w2);
   EXPECT_NEAR(correlation_length(sums), sum_w2 / sum_w2_over_d, 1e-12);
+  // C per unit length weighs each pair with 1 in ∫dℓ C_L and with d in ∫dℓ ℓC_L: the
+  // F²-weighted arithmetic mean of d, and ξ_length/ξ = ⟨d⟩·⟨1/d⟩ (weights F²), > 1 here.
+  const double xi_area = correlation_length(sums, Density::area), xi_length = correlation_length(sums, Density::length);
+  EXPECT_NEAR(xi_length, sum_w2_d / sum_w2, 1e-12);
+  EXPECT_NEAR(xi_length / xi_area, sum_w2_d * sum_w2_over_d / (sum_w2 * sum_w2), 1e-12);
+  EXPECT_GT(xi_length / xi_area, 1.001);
+  EXPECT_NEAR(truncated_correlation_length(sums, Density::length).back(), xi_length, 1e-12);
   expect_close(sums.w, expected_w, sum_w2, "sum w");
   const std::vector<double> c = isotropic_correlation(sums, grid);
   for (int b = 0; b < grid.radial_bins; ++b) {
@@ -224,6 +234,8 @@ TEST(ForceCorrelation, StraightChainAcrossTheShearedBoundary) {
     Correlator(grid).accumulate(loaded_grains(f), sums, map);
     EXPECT_NEAR(sums.norm, 2 * force * force, 1e-12) << angle_deg;
     EXPECT_NEAR(correlation_length(sums), (n - 1) * d, 1e-12) << angle_deg;
+    // One correlated pair: every reading of eq. 5.2 is its distance.
+    EXPECT_NEAR(correlation_length(sums, Density::length), (n - 1) * d, 1e-12) << angle_deg;
     const int end_bin = int((n - 1) * d / grid.bin_width);
     for (int b = 0; b < grid.radial_bins; ++b)
       EXPECT_NEAR(sums.w[b], b == end_bin ? -force * force : 0.0, 1e-12) << angle_deg << " bin " << b;
@@ -278,4 +290,53 @@ TEST(ForceCorrelation, BadContactsAndGridsAreUsageErrors) {
   EXPECT_THROW(LagGrid::make(0.1, 0.05, 24, 0.5), UsageError);
   EXPECT_THROW(LagGrid::make(0.1, 5, 2, 0.5), UsageError);
   EXPECT_THROW(LagGrid::make(0.1, 5, 24, 0.001), UsageError);
+}
+
+// The two densities on a constructed profile with closed forms: pair sums per radial bin of
+// C̄(ℓ) = A e^{−ℓ/λ} per unit area, filled exactly (Σw = 2πW∫_b ℓC̄, Σw/ℓ = 2πW∫_b C̄,
+// Σwℓ = 2πW∫_b ℓ²C̄), ℓ_max = 40λ. Per area ξ = ∫ℓC̄/∫C̄ = λ; per unit length, C_L = 2πℓC̄,
+// ξ_length = ∫ℓ²C̄/∫ℓC̄ = 2λ: the ratio is 2. A contact peak of weight −P at ℓ = 1 added to
+// it changes both by known amounts.
+TEST(ForceCorrelation, LengthDensityOfAnExponential) {
+  const double lambda = 0.75, amplitude = 0.3, norm = 2.0;
+  const LagGrid grid = LagGrid::make(0.05, 40 * lambda, 12, 0.5);
+  // ∫_lo^hi ℓ^k e^{−ℓ/λ} dℓ for k = 0, 1, 2 (antiderivatives −λ e^{−ℓ/λ}·poly_k(ℓ)).
+  auto moment = [&](int k, double lo, double hi) {
+    auto f = [&](double l) {
+      const double e = -lambda * std::exp(-l / lambda);
+      if (k == 0) return e;
+      if (k == 1) return e * (l + lambda);
+      return e * (l * l + 2 * lambda * l + 2 * lambda * lambda);
+    };
+    return f(hi) - f(lo);
+  };
+  PairSums sums(grid);
+  sums.norm = norm;
+  for (int b = 0; b < grid.radial_bins; ++b) {
+    const double lo = b * grid.bin_width, hi = lo + grid.bin_width, scale = 2 * M_PI * norm * amplitude;
+    sums.w_over_lag[std::size_t(b)] = scale * moment(0, lo, hi);
+    sums.w[std::size_t(b)] = scale * moment(1, lo, hi);
+    sums.w_times_lag[std::size_t(b)] = scale * moment(2, lo, hi);
+  }
+  const double xi_area = correlation_length(sums, Density::area), xi_length = correlation_length(sums, Density::length);
+  EXPECT_NEAR(xi_area, lambda, 1e-12);
+  EXPECT_NEAR(xi_length, 2 * lambda, 1e-12);
+  EXPECT_NEAR(xi_length / xi_area, 2, 1e-12);
+  // Truncated at ℓ: ξ_length(ℓ) = ∫_0^ℓ ℓ'²e / ∫_0^ℓ ℓ'e.
+  const std::vector<double> truncated = truncated_correlation_length(sums, Density::length);
+  for (int b : {3, 20, 100}) {
+    const double edge = (b + 1) * grid.bin_width;
+    EXPECT_NEAR(truncated[std::size_t(b)], moment(2, 0, edge) / moment(1, 0, edge), 1e-12) << b;
+  }
+  // A negative contact peak −P at ℓ = 1 (one pair sum: w = −P, w/ℓ = −P, wℓ = −P):
+  // ξ = (I1 − P)/(I0 − P), ξ_length = (I2 − P)/(I1 − P), I_k = 2πWA∫ℓ^k e^{−ℓ/λ}.
+  const double peak = 1.5, i0 = 2 * M_PI * norm * amplitude * moment(0, 0, grid.max_lag()),
+               i1 = 2 * M_PI * norm * amplitude * moment(1, 0, grid.max_lag()),
+               i2 = 2 * M_PI * norm * amplitude * moment(2, 0, grid.max_lag());
+  const std::size_t at = std::size_t(1 / grid.bin_width);
+  sums.w[at] -= peak;
+  sums.w_over_lag[at] -= peak;
+  sums.w_times_lag[at] -= peak;
+  EXPECT_NEAR(correlation_length(sums, Density::area), (i1 - peak) / (i0 - peak), 1e-12);
+  EXPECT_NEAR(correlation_length(sums, Density::length), (i2 - peak) / (i1 - peak), 1e-12);
 }
