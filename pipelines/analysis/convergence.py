@@ -63,6 +63,8 @@ OBSERVABLES = (
     ("xi_abs", "ξ_|C|", "gf-correlate", "correlation/xi_abs", "correlation/xi_abs_error", 0),
     ("xi_ratio", "ξ/ξ_el", "gf-correlate", "correlation/xi_ratio", "correlation/xi_ratio_error", 0),
     ("xi_abs_ratio", "ξ_|C|/ξ_el,|C|", "gf-correlate", "correlation/xi_abs_ratio", "correlation/xi_abs_ratio_error", 0),
+    ("xi_length_ratio", "ξ/ξ_el, C per unit length", "gf-correlate", "correlation/xi_length_ratio",
+     "correlation/xi_length_ratio_error", 0),
     ("a0", "a0 (eq. 5.3)", "gf-correlate", "correlation/a0", "correlation/a0_error", 0),
     ("theta0", "θ0 (eq. 5.3)", "gf-correlate", "correlation/theta0", "correlation/theta0_error", 0),
     ("a0_direction", "a0, eq. 5.2 per direction", "gf-correlate", "correlation/a0_direction",

@@ -199,7 +199,7 @@ class ConvergenceMakeTest(unittest.TestCase):
                 # The extra tolerance is a series of its own at one step.
                 self.assertEqual(sorted(set(steps[tol == 1e-8])), [1e-3])
                 self.assertEqual(sorted(set(np.round(nu, 3))), [0.5, 0.7])
-                for key in ("p", "s_over_p", "s_over_p_rows", "p_cv", "z", "xi", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
+                for key in ("p", "s_over_p", "s_over_p_rows", "p_cv", "z", "xi", "xi_length_ratio", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
                     self.assertIn(key, obs)
                 classes = [c.decode() if isinstance(c, bytes) else c for c in f["classes/class"][()]]
                 self.assertTrue(set(classes) <= {"converged", "converging", "regularisation-dependent", "unsettled"})
