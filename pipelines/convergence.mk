@@ -7,10 +7,11 @@
 # every CONV_OBSERVE_STRAIN and a frame every CONV_FRAME_STRAIN of strain. Any such name can be
 # asked for. Per run, its own tables (so that adding a step or a point analyses only the new runs):
 # steady_<stem> (steady_state.py: p, s/p, T, p^s, p^k), correlate_<stem> (gf-correlate, ξ_el from
-# the reference point's run at the same N and step), network_<stem> (gf-network with that table)
-# kinetic_<stem> (gf-kinetic: C_v, collisions) and network_gap<H>_<stem> (gf-network over geometric
-# contacts within H mean diameters, each H of CONV_CONTACT_GAPS). The summary, convergence.h5 and convergence.md
-# (pipelines/analysis/convergence.py): per state point and observable, the values against the
+# the reference point's run at the same N and step), network_<stem> (gf-network with that table),
+# kinetic_<stem> (gf-kinetic: C_v, collisions) and network_gap<H>_<stem> (gf-network over
+# geometric contacts within H mean diameters, each H of CONV_CONTACT_GAPS). The summary,
+# convergence.h5 and convergence.md (pipelines/analysis/convergence.py): per state point and
+# observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
 # exponent, or unsettled), and $(FIGURES)/fig4_2_step.png, Fig. 4.2's companion at fixed γ̇.
 CONVERGENCE ?= pipelines/sizes/convergence.mk
