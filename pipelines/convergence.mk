@@ -79,13 +79,13 @@ $(CONV_RUNS)/correlate_n%.h5: $(CONV_RUNS)/conv_n%.h5 $$(call conv_reference,$$*
 $(CONV_RUNS)/network_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(CONV_RUNS)/correlate_n%.h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
 	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient \
 	  --correlation $(CONV_RUNS)/correlate_n$*.h5 $<
-# Over geometric contacts within H mean diameters (gf-network --contact-gap H), one rule per H.
-define conv_network_gap
-$(CONV_RUNS)/network_gap$(1)_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(CONV_RUNS)/correlate_n%.h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
-	$$(LAUNCH) $$(BIN)/gf-network --quiet -o $$@ --from-strain $$(CONV_FROM_STRAIN) --detect-transient \
-	  --contact-gap $(1) --correlation $$(CONV_RUNS)/correlate_n$$*.h5 $$<
-endef
-$(foreach h,$(CONV_CONTACT_GAPS),$(eval $(call conv_network_gap,$(h))))
+# Over geometric contacts within H mean diameters (gf-network --contact-gap H): stem
+# "<H>_n<run stem>"; conv_gap_run gives the run stem.
+conv_gap_run = $(patsubst $(call conv_arg,,1,$(1))_n%,%,$(1))
+$(CONV_RUNS)/network_gap%.h5: $(CONV_RUNS)/conv_n$$(call conv_gap_run,$$*).h5 \
+                              $(CONV_RUNS)/correlate_n$$(call conv_gap_run,$$*).h5 $(STAMPS)/gf-network.stamp $(CONV_ANALYSIS)
+	$(LAUNCH) $(BIN)/gf-network --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient \
+	  --contact-gap $(call conv_arg,,1,$*) --correlation $(CONV_RUNS)/correlate_n$(call conv_gap_run,$*).h5 $<
 $(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $(CONV_ANALYSIS)
 	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient $<
 
