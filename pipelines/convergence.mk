@@ -96,3 +96,35 @@ $(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS
 # Fig. 4.2's companion: p, s/p and T against the step at fixed γ̇.
 $(CONV_FIGURE): $(CONV_RUNS)/convergence.h5 pipelines/plot/convergence_step.py $(GRANFLOW_PY) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/convergence_step.py $< $@
+
+# ν_bc(e) and the dense/dilute class of every run against the step (Figs 5.9-5.10): the SIZE's
+# chapter-5 sweep at μ = 0 over PHASE_NU (and its reference run), made again in
+# $(CONV_RUNS)/ch5_dt<h> at each step h of PHASE_STEPS by a sub-make of the SIZE's own rules with
+# SHEAR_STRAIN_STEP = h and frames at the SIZE's strain spacing; then phase_step.py:
+# $(CONV_RUNS)/phase_step.{h5,md} and $(FIGURES)/fig5_10_step.png. The sub-make is always asked
+# (it alone knows the runs); it remakes only what is out of date.
+PHASE_TABLES  := $(PHASE_STEPS:%=$(CONV_RUNS)/ch5_dt%/ch5_correlate.h5)
+PHASE_SUMMARY := $(CONV_RUNS)/phase_step.h5 $(CONV_RUNS)/phase_step.md $(FIGURES)/fig5_10_step.png
+phase-step-files: $(PHASE_SUMMARY)
+
+ifneq ($(filter phase-step phase-step-files,$(MAKECMDGOALS)),)
+ifeq ($(word 2,$(PHASE_STEPS)),)
+$(error $(CONVERGENCE): PHASE_STEPS needs at least two strain steps (got '$(strip $(PHASE_STEPS))'))
+endif
+ifeq ($(filter $(SHEAR_STRAIN_STEP),$(PHASE_STEPS)),)
+$(error $(CONVERGENCE): PHASE_STEPS must hold the SIZE's step SHEAR_STRAIN_STEP ($(SHEAR_STRAIN_STEP)))
+endif
+endif
+
+.PHONY: phase-step-force
+phase-step-force:
+$(CONV_RUNS)/ch5_dt%/ch5_correlate.h5: phase-step-force
+	+$(MAKE) --no-print-directory -f $(SELF) RUNS=$(@D) SHEAR_STRAIN_STEP=$* \
+	  SHEAR_FRAME_EVERY=$(call conv_every,$(SHEAR_FRAME_EVERY)*$(SHEAR_STRAIN_STEP),$*) \
+	  SHEAR_LONG_FRAME_EVERY=$(call conv_every,$(SHEAR_LONG_FRAME_EVERY)*$(SHEAR_STRAIN_STEP),$*) \
+	  CH5_MU= CH5_NU="$(PHASE_NU)" $@
+
+$(PHASE_SUMMARY) &: $(PHASE_TABLES) pipelines/analysis/phase_step.py pipelines/analysis/convergence.py \
+                    $(CONV_ANALYSIS) | $(CONV_RUNS)/ $(FIGURES)/
+	$(PYTHON) pipelines/analysis/phase_step.py --default-step $(SHEAR_STRAIN_STEP) -o $(CONV_RUNS)/phase_step.h5 \
+	  --markdown $(CONV_RUNS)/phase_step.md --figure $(FIGURES)/fig5_10_step.png $(PHASE_TABLES)

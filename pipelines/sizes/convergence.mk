@@ -36,3 +36,7 @@ CONV_FRAME_STRAIN  := 4e-2
 # z, Φ, Ψ and the fabric also over geometric contacts (gf-network --contact-gap), these gaps in
 # mean diameters.
 CONV_CONTACT_GAPS  := 1e-4 1e-3 1e-2
+# ν_bc(e) against the step (make -f Makefile.sweeps phase-step): the SIZE's chapter-5 sweep at
+# μ = 0 over PHASE_NU at each of PHASE_STEPS (which must hold the SIZE's SHEAR_STRAIN_STEP).
+PHASE_STEPS := 1e-3 2.5e-4 1.25e-4 6.25e-5
+PHASE_NU    := 0.700 0.740 0.760 0.770 0.780 0.790 0.800 0.810 0.820
