@@ -11,6 +11,15 @@
 
 namespace granflow {
 
+// Which candidates the normal law constrains (see engine.hpp):
+//  - predicted_gap: Moreau's activation, every candidate; one that touches or would touch
+//    within the step is a contact, any other may close its gap but never go below zero;
+//  - overlap: the thesis' (App. A.1): only pairs that touch or overlap at the start of the
+//    step (g ≤ 0, found after the previous position update) are contacts; the others are
+//    free, so a pair overlaps by up to dt·|u_n| before it first bounces, and an overlap is
+//    never removed, only kept from growing.
+enum class Activation { predicted_gap, overlap };
+
 // New normal impulse of a local solve: P_n ← max(0, P_n + (b_n − u_n)/W_nn).
 template <class Row, class Body>
 inline double normal_impulse(const Row& r, const Body& a, const Body& b) {

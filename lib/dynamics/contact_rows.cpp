@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "dynamics/branch_free.hpp"
@@ -53,7 +54,9 @@ void ContactRows::build_row(const StepInput& in, const std::vector<Candidate>& c
   // Touching or predicted to touch, or not, is as good as random: both bounds are computed
   // and one is picked without a jump. e·max(0, −u_n) is −e·u_n for u_n < 0, else +0.
   const bool touching = (gap <= 0) | (gap + in.dt * un <= 0);
-  const double bn = pick(touching, e * positive_part(-un), -gap / in.dt);
+  double bn = pick(touching, e * positive_part(-un), -gap / in.dt);
+  // The thesis' activation: a pair apart at the start of the step is unconstrained.
+  if (in.activation == Activation::overlap && gap > 0) bn = -std::numeric_limits<double>::infinity();
   const double wi = s.fixed[i] ? 0.0 : 1.0 / s.mass[i];
   const double wj = s.fixed[j] ? 0.0 : 1.0 / s.mass[j];
 

@@ -11,6 +11,7 @@
 #include "core/contact_records.hpp"
 #include "core/vec.hpp"
 #include "dynamics/broad_phase.hpp"
+#include "dynamics/contact_law.hpp"
 #include "dynamics/grains.hpp"
 #include "dynamics/tiling.hpp"
 #include "geometry/box.hpp"
@@ -50,6 +51,7 @@ struct StepInput {
   const Material& material;
   Vec2 gravity;
   int threads;
+  Activation activation;
 };
 
 // Key of the pair of grains i < j: (i << 32) | j, in the candidates' order.

@@ -212,7 +212,7 @@ void Engine::advance() {
 }
 
 const StepReport& Engine::step() {
-  const StepInput in{state_, box_, rate_, dt_, material_, gravity_, settings_.threads};
+  const StepInput in{state_, box_, rate_, dt_, material_, gravity_, settings_.threads, settings_.activation};
   tiling_.order(state_, box_, max_radius_, alert_, settings_.threads);
   contacts_.build(in, broad_.candidates(), tiling_);
   contacts_.load_bodies(in, tiling_);

@@ -15,6 +15,7 @@
 //            u_n⁺ ≥ −e·u_n⁻ if u_n⁻ < 0, else u_n⁺ ≥ 0 (an overlap never grows);
 //        otherwise (speculative): u_n⁺ ≥ −g/dt (the gap may close, never below zero);
 //        P_n ≥ 0, P_n > 0 only where the bound is tight.
+//     (SolverSettings::activation = overlap: the thesis' rule instead, contact_law.hpp.)
 //     Tangential law (eq. 4.1, A.7): u_t⁺ = e_t·u_t⁻ with |P_t| ≤ μ·P_n.
 //     A binary collision thus obeys u_n⁺ = −e·u_n⁻ exactly and never overlaps.
 //  4. v⁺ = v_free + P/m, ω⁺ = ω − R·P_t/I for both grains of a contact (the torque of
@@ -91,6 +92,7 @@ constexpr int kMaxIterationsWithFriction = 100000;
 
 struct SolverSettings {
   double tolerance = 1e-10;             // Υ·dt: a length per step
+  Activation activation = Activation::predicted_gap;
   int max_iterations = kMaxIterations;  // Gauss–Seidel sweeps per step
   // Smallest alert gap (a length); 0 selects 0.01 × the mean diameter. Each step uses
   // max(this, 2·dt·v_rel,max), a safe bound on the relative displacement in one step:

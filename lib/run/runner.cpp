@@ -34,6 +34,12 @@ void add_contact_options(CommandLine& cli) {
                   "with exit code 1 and no output",
                   "0.01");
   cli.real_option("alert-distance", 0, "D", "smallest gap of candidate contacts; 0 = 0.01 mean diameter", "0");
+  cli.text_option("activation", 0, "RULE",
+                  "which pairs the normal law constrains: predicted-gap (Moreau's: pairs that touch or would touch "
+                  "within the step bounce, the others may close their gap but never overlap) or overlap (the "
+                  "thesis' App. A.1: only pairs found touching or overlapping after the position update, so pairs "
+                  "overlap by up to dt·|u_n| before they bounce)",
+                  "predicted-gap");
   cli.flag("no-cluster-solves", 0,
            "Gauss–Seidel alone, without the exact solves of contact clusters (nor region solves, nor skipping "
            "settled rows): the same laws and tolerance, many more sweeps (a reference for comparisons)");
@@ -59,6 +65,12 @@ Material material_option(const CommandLine& cli) {
   return material;
 }
 
+Activation activation_named(const std::string& name) {
+  if (name == "predicted-gap") return Activation::predicted_gap;
+  if (name == "overlap") return Activation::overlap;
+  throw UsageError("option --activation: must be predicted-gap or overlap, not '" + name + "'");
+}
+
 SolverSettings solver_option(const CommandLine& cli) {
   SolverSettings settings;
   settings.tolerance = cli.real("tolerance");
@@ -71,6 +83,7 @@ SolverSettings solver_option(const CommandLine& cli) {
     settings.max_iterations = cli.real("friction") > 0 ? kMaxIterationsWithFriction : kMaxIterations;
   }
   settings.alert_distance = cli.real("alert-distance");
+  settings.activation = activation_named(cli.text("activation"));
   settings.cluster_solves = !cli.flag_set("no-cluster-solves");
   const long long region_after = cli.integer("region-solve-after");
   if (region_after < 0 || region_after > (1LL << 30)) throw UsageError("option --region-solve-after: must be >= 0");

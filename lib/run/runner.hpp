@@ -20,11 +20,13 @@
 namespace granflow {
 
 // --restitution, --tangential-restitution, --friction, --tolerance, --max-iterations,
-// --max-unconverged, --alert-distance, --threads.
+// --max-unconverged, --alert-distance, --activation, --threads.
 void add_contact_options(CommandLine& cli);
 // The values of those options, validated (UsageError naming the option).
 Material material_option(const CommandLine& cli);
 SolverSettings solver_option(const CommandLine& cli);
+// The --activation rule named (predicted-gap, overlap); UsageError naming the option otherwise.
+Activation activation_named(const std::string& name);
 
 // --frame-every, --observe-every (default observe_every), --checkpoint-every, --resume.
 void add_run_options(CommandLine& cli, const std::string& observe_every);

@@ -69,6 +69,61 @@ TEST_P(HeadOn, RestitutionExactNoOverlap) {
 
 INSTANTIATE_TEST_SUITE_P(TwoDisk, HeadOn, ::testing::Values(0.0, 0.25, 0.7, 1.0));
 
+class HeadOnOverlap : public ::testing::TestWithParam<double> {};
+
+// The same pair under the thesis' activation (SolverSettings::activation = overlap): no
+// impulse while the pair is apart at the start of a step, so it overlaps first, by less than
+// dt·|u_n⁻|; the impulse comes exactly at the first step that starts with g ≤ 0, with
+// u_n⁺ = −e·u_n⁻, and momentum is conserved.
+TEST_P(HeadOnOverlap, BouncesOnceOverlapping) {
+  const double e = GetParam();
+  const Vec2 n(0.8, 0.6);
+  GrainState s = make_grains({Vec2(12, 12), Vec2(12, 12) - 2.0 * n}, {0.7, 0.45});
+  s.velocity[0] = -0.9 * n + 0.2 * perp(n);
+  s.velocity[1] = 0.6 * n;
+  const double dt = 0.01;
+  SolverSettings settings;
+  settings.activation = Activation::overlap;
+  Engine engine(s, test::periodic_square(24), 0.0, {e, 0.0, 0.0}, settings, dt);
+  const double mi = s.mass[0], mj = s.mass[1];
+  const Vec2 momentum = mi * s.velocity[0] + mj * s.velocity[1];
+
+  int first = -1;
+  double un_before = 0, un_after = 0, gap_at_impact = 0;
+  for (int k = 0; k < 150; ++k) {
+    const GrainState before = engine.state();
+    const Vec2 d = engine.box().minimum_image(before.position[0] - before.position[1]);
+    const Vec2 nn = d.normalized();
+    const double gap = d.norm() - 0.7 - 0.45;
+    const double un = (before.velocity[0] - before.velocity[1]).dot(nn);
+    engine.step();
+    const GrainState& after = engine.state();
+    const Vec2 p = mi * after.velocity[0] + mj * after.velocity[1];
+    EXPECT_NEAR((p - momentum).norm(), 0.0, 1e-14 * mi);
+    if (first >= 0) continue;
+    if (gap > 0) {
+      ASSERT_EQ(engine.contacts().size(), 0u) << "step " << k << ": an impulse before the pair overlaps";
+      continue;
+    }
+    ASSERT_EQ(engine.contacts().size(), 1u) << "step " << k;
+    first = k;
+    un_before = un;
+    un_after = (after.velocity[0] - after.velocity[1]).dot(nn);
+    gap_at_impact = gap;
+    const double reduced = mi * mj / (mi + mj);
+    EXPECT_NEAR(engine.contacts().normal_force[0], (1 + e) * reduced * -un / dt, 1e-12 * (1 + e) * reduced * -un / dt);
+  }
+  ASSERT_GE(first, 0);
+  EXPECT_LT(un_before, 0.0);
+  EXPECT_NEAR(un_after, -e * un_before, 1e-12 * std::fabs(un_before));
+  // It overlapped (these numbers never touch exactly), by less than one step's approach.
+  EXPECT_LT(gap_at_impact, 0.0);
+  EXPECT_LT(-gap_at_impact, 1.05 * dt * std::fabs(un_before));
+  EXPECT_EQ(engine.unconverged_steps(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(TwoDisk, HeadOnOverlap, ::testing::Values(0.0, 0.25, 0.7, 1.0));
+
 // Oblique frictional collision of a nearly touching pair, against the closed-form
 // solution derived here from the contact-point velocity u = v + ω ẑ×(c − r) of each disk.
 struct Oblique {

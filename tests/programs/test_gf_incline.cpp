@@ -207,6 +207,7 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, GfInclineBadInput,
     ::testing::Values(
         BadInput{"angle_missing", "-i {in} -o {out}", "--angle"},
+        BadInput{"activation_unknown", "-i {in} -o {out} --angle 20 --activation moreau", "--activation"},
         BadInput{"angle_zero", "-i {in} -o {out} --angle 0", "--angle"},
         BadInput{"angle_ninety", "-i {in} -o {out} --angle 90", "--angle"},
         BadInput{"angle_negative", "-i {in} -o {out} --angle -5", "--angle"},

@@ -2,6 +2,7 @@
 // branching from a stored frame (both must reproduce the uninterrupted run bit for bit).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -211,6 +212,25 @@ TEST(GfShearBranch, VelocityModesRecordedAndApplied) {
   }
 }
 
+// --activation: recorded in /parameters (predicted-gap by default); under the thesis' rule
+// (overlap) pairs overlap before they bounce, by orders of magnitude more than the
+// tolerance that bounds the default's overlaps.
+TEST(GfShearActivation, RecordedAndOverlapsOnlyUnderTheThesisRule) {
+  ScratchDir dir("shear_activation");
+  const std::string common = "-i " + packing() + " --steps 300 --rate 0.01 --strain-step 1e-3 --restitution 0.5 --quiet";
+  ASSERT_EQ(run_tool("gf-shear", common + " -o " + (dir / "gap.h5")).exit_code, 0);
+  auto r = run_tool("gf-shear", common + " --activation overlap -o " + (dir / "overlap.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  io::TrajectoryReader gap(dir / "gap.h5"), overlap(dir / "overlap.h5");
+  EXPECT_EQ(gap.parameters().get_string("activation"), "predicted-gap");
+  EXPECT_EQ(overlap.parameters().get_string("activation"), "overlap");
+  const auto a = gap.observable_scalar("max_overlap"), b = overlap.observable_scalar("max_overlap");
+  const double worst_gap = *std::max_element(a.begin(), a.end());
+  const double worst_overlap = *std::max_element(b.begin(), b.end());
+  EXPECT_LT(worst_gap, 1e-8);
+  EXPECT_GT(worst_overlap, 1e3 * std::max(worst_gap, 1e-10));
+}
+
 // ---- bad input: exit 2, one line naming the problem, no output file left ----
 
 class GfShearBadInput : public ::testing::TestWithParam<BadInput> {};
@@ -245,6 +265,8 @@ INSTANTIATE_TEST_SUITE_P(
                                "--branch-velocities"},
                       BadInput{"branch_velocities_with_a_packing", "-i {in} -o {out} --branch-velocities keep",
                                "--branch-velocities"},
+                      BadInput{"activation_unknown", "-i {in} -o {out} --activation moreau", "--activation"},
+                      BadInput{"activation_empty", "-i {in} -o {out} --activation ''", "--activation"},
                       BadInput{"unknown_option", "-i {in} -o {out} --shear 3", "--shear"}),
     bad_input_name);
 
