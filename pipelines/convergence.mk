@@ -4,7 +4,9 @@
 #
 # Runs: $(CONV_RUNS)/conv_n<N>_nu<ν>_e<e>_mu<μ>_dt<γ̇dt>_tol<tolerance>_s<seed>.h5, gf-shear from
 # the packing $(CONV_RUNS)/pack_n<N>_nu<ν>_s<seed>.h5, CONV_STRAIN strain units, an observable row
-# every CONV_OBSERVE_STRAIN and a frame every CONV_FRAME_STRAIN of strain. Any such name can be
+# every CONV_OBSERVE_STRAIN and a frame every CONV_FRAME_STRAIN of strain, contact activation
+# CONV_ACTIVATION (gf-shear --activation; a grid of another activation sets its own CONV_RUNS, as
+# pipelines/sizes/convergence_overlap.mk does). Any such name can be
 # asked for. Per run, its own tables (so that adding a step or a point analyses only the new runs):
 # steady_<stem> (steady_state.py: p, s/p, T, p^s, p^k), correlate_<stem> (gf-correlate, ξ_el from
 # the reference point's run at the same N and step), network_<stem> (gf-network with that table),
@@ -17,6 +19,7 @@
 CONVERGENCE ?= pipelines/sizes/convergence.mk
 include $(CONVERGENCE)
 CONV_RUNS ?= runs/convergence
+CONV_ACTIVATION ?= predicted-gap
 
 ifneq ($(filter convergence convergence-files,$(MAKECMDGOALS)),)
 ifeq ($(word 2,$(CONV_STEPS)),)
@@ -50,7 +53,7 @@ CONV_TABLES := $(foreach k,steady correlate network kinetic $(CONV_CONTACT_GAPS:
 CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
 
-CONV_FIGURE := $(FIGURES)/fig4_2_step.png
+CONV_FIGURE ?= $(FIGURES)/fig4_2_step.png
 convergence-files: $(CONV_SUMMARY) $(CONV_FIGURE)
 
 # Stem "<N>_nu<ν>_e<e>_mu<μ>_dt<γ̇dt>_tol<tol>_s<seed>": word $(2) split at "_", prefix $(1) removed.
@@ -68,6 +71,7 @@ $(CONV_RUNS)/conv_n%.h5: $(CONV_RUNS)/pack_n$$(call conv_arg,,1,$$*)_$$(call con
 	$(LAUNCH) $(BIN)/gf-shear --quiet $(call resume,gf-shear) -i $< -o $@ --rate $(CONV_RATE) \
 	  --restitution $(call conv_arg,e,3,$*) --friction $(call conv_arg,mu,4,$*) --seed $(call conv_arg,s,7,$*) \
 	  --strain $(CONV_STRAIN) --strain-step $(call conv_arg,dt,5,$*) --tolerance $(call conv_arg,tol,6,$*) \
+	  --activation $(CONV_ACTIVATION) \
 	  --observe-every $(call conv_every,$(CONV_OBSERVE_STRAIN),$(call conv_arg,dt,5,$*)) \
 	  --frame-every $(call conv_every,$(CONV_FRAME_STRAIN),$(call conv_arg,dt,5,$*))
 

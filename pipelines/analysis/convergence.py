@@ -29,7 +29,8 @@ A fit needs at least MIN_STEPS steps, a limit one more. The bounds of ALPHA_GRID
 moves as a smaller power of h, or as log h, is not told from one that converges.
 
 Output (HDF5, written atomically): /parameters (program, script_sha256, command_line,
-default_step, reference, thresholds); /runs/input, input_sha256 (the tables read);
+default_step, reference, activation (the runs' gf-shear --activation: runs of two activations are
+refused), thresholds); /runs/input, input_sha256 (the tables read);
 /series/<column> [rows], one row per (point, N, tolerance, observable, step): grains,
 packing_fraction, restitution, friction, tolerance, step, observable, value, error;
 /classes/<column> [rows], one row per (point, observable) classified: packing_fraction,
@@ -312,6 +313,12 @@ def run_key(run_path, cache):
     return cache[run_path]
 
 
+def run_activation(run_path):
+    """gf-shear's --activation of a run (predicted-gap for runs made before the option)."""
+    with h5py.File(run_path, "r") as f:
+        return str(read_attrs(f["parameters"]).get("activation", "predicted-gap"))
+
+
 def geometric_observables(gap):
     """The GEOMETRIC_KEYS of a gf-network table over geometric contacts within `gap` mean diameters."""
     return tuple(
@@ -357,9 +364,11 @@ def row_statistics(run_path, from_strain):
 
 
 def read_rows(paths):
-    """{(grains, ν, e, μ, tol, step): {observable key: (value, error)}} over every table."""
+    """({(grains, ν, e, μ, tol, step): {observable key: (value, error)}} over every table, the
+    runs' contact activation); ValueError when the runs mix activations."""
     cache = {}
     rows = {}
+    activations = {}
     for path in paths:
         with h5py.File(path, "r") as f:
             parameters = read_attrs(f["parameters"])
@@ -373,6 +382,8 @@ def read_rows(paths):
             for i, run in enumerate(inputs):
                 run_path = run if os.path.isabs(run) or os.path.exists(run) else os.path.join(base, run)
                 *key, rate = run_key(run_path, cache)
+                if run_path not in activations:
+                    activations[run_path] = run_activation(run_path)
                 entry = rows.setdefault(tuple(key), {})
                 if program == "steady_state.py":
                     mean_ratio, cv = row_statistics(run_path, float(f["runs/steady_from"][i]))
@@ -383,7 +394,14 @@ def read_rows(paths):
                     value = float(np.atleast_1d(f[name][()])[i]) / rate**power
                     err = float(np.atleast_1d(f[error][()])[i]) / rate**power if error and error in f else math.nan
                     entry[obs] = (value, err)
-    return rows
+    kinds = sorted(set(activations.values()))
+    if len(kinds) > 1:
+        example = {k: next(p for p, a in activations.items() if a == k) for k in kinds}
+        raise ValueError(
+            "the runs mix contact activations (" + ", ".join(f"{k}: {example[k]}" for k in kinds) + "); "
+            "study one per convergence.py call"
+        )
+    return rows, (kinds[0] if kinds else "predicted-gap")
 
 
 # ------------------------------------------------------------------ output
@@ -418,7 +436,7 @@ def class_text(c):
     return "unsettled"
 
 
-def markdown(series, classes, default_step, tolerance, observables):
+def markdown(series, classes, default_step, tolerance, observables, activation="predicted-gap"):
     lines = []
     points = sorted({(k[1], k[2], k[3], k[0]) for k in series})
     for nu, e, mu, grains in points:
@@ -428,7 +446,10 @@ def markdown(series, classes, default_step, tolerance, observables):
         for key in keys:
             steps = sorted(series[key], reverse=True)
             tol = key[4]
-            lines.append(f"### ν = {nu:.3f}, e = {e:.2f}, μ = {mu:.2f}, N = {grains}, tolerance {tol:g}")
+            lines.append(
+                f"### ν = {nu:.3f}, e = {e:.2f}, μ = {mu:.2f}, N = {grains}, tolerance {tol:g}"
+                + ("" if activation == "predicted-gap" else f", activation {activation}")
+            )
             lines.append("")
             head = ["observable"] + [
                 f"γ̇dt = {h:g}" + (" (default)" if math.isclose(h, default_step, rel_tol=1e-9) else "") for h in steps
@@ -474,8 +495,8 @@ def main():
         if out and any(os.path.abspath(out) == os.path.abspath(t) for t in args.tables):
             ap.error(f"{out}: the output is also an input")
     try:
-        rows = read_rows(args.tables)
-    except (OSError, KeyError) as err:
+        rows, activation = read_rows(args.tables)
+    except (OSError, KeyError, ValueError) as err:
         print(f"convergence.py: {err}", file=sys.stderr)
         return 2
 
@@ -518,6 +539,7 @@ def main():
         "default_step": args.default_step,
         "reference": args.reference,
         "tolerance": args.tolerance,
+        "activation": activation,
         "relative_tolerance": RELATIVE_TOLERANCE,
         "max_relative_error": MAX_RELATIVE_ERROR,
         "min_fit_probability": MIN_FIT_PROBABILITY,
@@ -557,7 +579,7 @@ def main():
         out = outputs.atomic_output(args.markdown)
         try:
             with open(out.name, "w") as md:
-                md.write(markdown(series, classes, args.default_step, args.tolerance, observables))
+                md.write(markdown(series, classes, args.default_step, args.tolerance, observables, activation))
             out.commit()
         finally:
             out.abandon()

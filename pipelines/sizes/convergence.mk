@@ -1,6 +1,7 @@
 # The convergence study (make -f Makefile.sweeps convergence; pipelines/convergence.mk, results in
 # docs/results/convergence.md): which observables reach a limit as the strain step γ̇dt -> 0.
 # Another grid: make -f Makefile.sweeps convergence CONVERGENCE=path/to/grid.mk (the same names).
+# CONV_ACTIVATION (gf-shear --activation, default predicted-gap) and CONV_RUNS may be set there too.
 #
 # State points "ν:e:μ", each run at every strain step of CONV_STEPS (at least two), N = CONV_GRAINS,
 # the default tolerance. The reference point (a dilute, nearly elastic flow) gives ξ_el at each step.

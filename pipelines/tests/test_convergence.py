@@ -134,6 +134,41 @@ class RowStatisticsTest(unittest.TestCase):
         self.assertLess(ratio_error, 1e-3)
 
 
+class ActivationTest(unittest.TestCase):
+    """Runs of two contact activations are not one series: read_rows refuses them."""
+
+    def write_run(self, path, activation):
+        import h5py
+
+        with h5py.File(path, "w") as f:
+            a = f.create_group("parameters").attrs
+            a.update({"grains": 64, "packing_fraction": 0.8, "restitution": 0.5, "friction": 0.0,
+                      "tolerance": 1e-10, "rate": 1.0, "dt": 1e-3})
+            if activation is not None:
+                a["activation"] = activation
+
+    def write_table(self, path, run):
+        import h5py
+
+        with h5py.File(path, "w") as f:
+            f.create_group("parameters").attrs["program"] = "gf-kinetic"
+            f.create_group("runs").create_dataset("input", data=np.array([run], dtype=object),
+                                                  dtype=h5py.string_dtype())
+
+    def test_mixed_activations_are_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            for name, activation in (("old", None), ("gap", "predicted-gap"), ("overlap", "overlap")):
+                self.write_run(f"{d}/{name}.h5", activation)
+                self.write_table(f"{d}/t_{name}.h5", f"{d}/{name}.h5")
+            # A run made before the option is a predicted-gap run.
+            rows, activation = convergence.read_rows([f"{d}/t_old.h5", f"{d}/t_gap.h5"])
+            self.assertEqual(activation, "predicted-gap")
+            rows, activation = convergence.read_rows([f"{d}/t_overlap.h5"])
+            self.assertEqual(activation, "overlap")
+            with self.assertRaisesRegex(ValueError, "mix contact activations"):
+                convergence.read_rows([f"{d}/t_gap.h5", f"{d}/t_overlap.h5"])
+
+
 GRID = """CONV_POINTS       := 0.700:0.50:0.00
 CONV_REFERENCE    := 0.500:0.92:0.00
 CONV_STEPS        := {steps}
