@@ -15,7 +15,9 @@
 # convergence.h5 and convergence.md (pipelines/analysis/convergence.py): per state point and
 # observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
-# exponent, or unsettled), and $(FIGURES)/fig4_2_step.png, Fig. 4.2's companion at fixed γ̇.
+# exponent, or unsettled), convergence_classes.csv (the classes alone, which report.py reads from
+# its committed copy docs/results/convergence_classes.csv) and $(FIGURES)/fig4_2_step.png, Fig.
+# 4.2's companion at fixed γ̇.
 CONVERGENCE ?= pipelines/sizes/convergence.mk
 include $(CONVERGENCE)
 CONV_RUNS ?= runs/convergence
@@ -50,7 +52,7 @@ CONV_SIM := $(sort $(CONV_SIM))
 CONV_STEMS := $(patsubst $(CONV_RUNS)/conv_n%.h5,%,$(CONV_SIM))
 CONV_TABLES := $(foreach k,steady correlate network kinetic $(CONV_CONTACT_GAPS:%=network_gap%),\
                  $(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
-CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md
+CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md $(CONV_RUNS)/convergence_classes.csv
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
 
 CONV_FIGURE ?= $(FIGURES)/fig4_2_step.png
@@ -95,28 +97,31 @@ $(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $
 
 $(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS_STAMP) $(CONV_ANALYSIS) | $(CONV_RUNS)/
 	$(PYTHON) pipelines/analysis/convergence.py --default-step $(CONV_DEFAULT_STEP) \
-	  --reference $(CONV_REFERENCE) -o $(CONV_RUNS)/convergence.h5 --markdown $(CONV_RUNS)/convergence.md $(CONV_TABLES)
+	  --reference $(CONV_REFERENCE) -o $(CONV_RUNS)/convergence.h5 --markdown $(CONV_RUNS)/convergence.md \
+	  --classes-csv $(CONV_RUNS)/convergence_classes.csv $(CONV_TABLES)
 
 # Fig. 4.2's companion: p, s/p and T against the step at fixed γ̇.
 $(CONV_FIGURE): $(CONV_RUNS)/convergence.h5 pipelines/plot/convergence_step.py $(GRANFLOW_PY) | $(FIGURES)/
 	$(PYTHON) pipelines/plot/convergence_step.py $< $@
 
-# ν_bc(e) and the dense/dilute class of every run against the step (Figs 5.9-5.10): the SIZE's
-# chapter-5 sweep at μ = 0 over PHASE_NU (and its reference run), made again in
+# ν_bc(e) and the dense/dilute class of every run against the step (Figs 5.9-5.10; grid file
+# $(PHASE_GRID)): the SIZE's chapter-5 sweep at μ = 0 over PHASE_NU (and its reference run), made again in
 # $(CONV_RUNS)/ch5_dt<h> at each step h of PHASE_STEPS by a sub-make of the SIZE's own rules with
 # SHEAR_STRAIN_STEP = h and frames at the SIZE's strain spacing; then phase_step.py:
 # $(CONV_RUNS)/phase_step.{h5,md} and $(FIGURES)/fig5_10_step.png. The sub-make is always asked
 # (it alone knows the runs); it remakes only what is out of date.
+PHASE_GRID ?= pipelines/sizes/phase_step.mk
+include $(PHASE_GRID)
 PHASE_TABLES  := $(PHASE_STEPS:%=$(CONV_RUNS)/ch5_dt%/ch5_correlate.h5)
 PHASE_SUMMARY := $(CONV_RUNS)/phase_step.h5 $(CONV_RUNS)/phase_step.md $(FIGURES)/fig5_10_step.png
 phase-step-files: $(PHASE_SUMMARY)
 
 ifneq ($(filter phase-step phase-step-files,$(MAKECMDGOALS)),)
 ifeq ($(word 2,$(PHASE_STEPS)),)
-$(error $(CONVERGENCE): PHASE_STEPS needs at least two strain steps (got '$(strip $(PHASE_STEPS))'))
+$(error $(PHASE_GRID): PHASE_STEPS needs at least two strain steps (got '$(strip $(PHASE_STEPS))'))
 endif
 ifeq ($(filter $(SHEAR_STRAIN_STEP),$(PHASE_STEPS)),)
-$(error $(CONVERGENCE): PHASE_STEPS must hold the SIZE's step SHEAR_STRAIN_STEP ($(SHEAR_STRAIN_STEP)))
+$(error $(PHASE_GRID): PHASE_STEPS must hold the SIZE's step SHEAR_STRAIN_STEP ($(SHEAR_STRAIN_STEP)))
 endif
 endif
 
@@ -129,6 +134,6 @@ $(CONV_RUNS)/ch5_dt%/ch5_correlate.h5: phase-step-force
 	  CH5_MU= CH5_NU="$(PHASE_NU)" $@
 
 $(PHASE_SUMMARY) &: $(PHASE_TABLES) pipelines/analysis/phase_step.py pipelines/analysis/convergence.py \
-                    $(CONV_ANALYSIS) | $(CONV_RUNS)/ $(FIGURES)/
+                    $(GRANFLOW_PY) $(PHASE_GRID) | $(CONV_RUNS)/ $(FIGURES)/
 	$(PYTHON) pipelines/analysis/phase_step.py --default-step $(SHEAR_STRAIN_STEP) -o $(CONV_RUNS)/phase_step.h5 \
 	  --markdown $(CONV_RUNS)/phase_step.md --figure $(FIGURES)/fig5_10_step.png $(PHASE_TABLES)

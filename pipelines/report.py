@@ -1292,6 +1292,74 @@ def ch6_stz_section(fit_path, critical_path=None):
     return lines
 
 
+# The convergence study's observables (pipelines/analysis/convergence.py keys) each section's
+# comparisons use; sections absent here use none the study classes.
+SECTION_OBSERVABLES = {
+    "ch4": ("p", "s_over_p", "T", "p_s", "p_k"),
+    "ch5": ("xi_abs", "xi_abs_ratio", "a0", "theta0", "pf_mode", "pf_zero"),
+    "ch5_jamming": ("p",),
+    "ch6_kinetic": ("p_s", "p_bc", "T", "C_v", "omega"),
+    "ch6_network": ("z", "z@0.01", "Phi", "Phi@0.01", "Psi", "Psi@0.01", "a_c", "lhs_627", "rhs_627", "xi_abs_ratio"),
+    "ch6_stz": ("s_over_p", "p", "xi_abs_ratio"),
+}
+NOT_STUDIED = {
+    "incline": "the incline's flow rate and profiles are not in the convergence study's grid",
+    "ch6_d2min": "D²min is not in the convergence study's grid",
+}
+NEAR_LIMIT = 0.02
+
+
+def read_step_classes(path):
+    """The rows of convergence.py --classes-csv (its comment line first)."""
+    import csv
+
+    with open(path, newline="") as fh:
+        header = fh.readline().lstrip("# ").strip()
+        return header, list(csv.DictReader(fh))
+
+
+def step_note(step_classes, section, path):
+    """One paragraph: per observable the section uses, how many of the study's state points
+    class it converged, converging (and at how many the default step is within NEAR_LIMIT, or
+    the errors, of the limit), regularisation-dependent or unsettled."""
+    if step_classes is None:
+        return []
+    if section in NOT_STUDIED:
+        return ["", f"**Step dependence**: not known: {NOT_STUDIED[section]}.", ""]
+    header, rows = step_classes
+    parts = []
+    for key in SECTION_OBSERVABLES.get(section, ()):
+        mine = [r for r in rows if r["observable"] == key]
+        if not mine:
+            continue
+        count = {c: sum(r["class"] == c for r in mine) for c in
+                 ("converged", "converging", "regularisation-dependent", "unsettled")}
+        near = 0
+        for r in mine:
+            if r["class"] != "converging":
+                continue
+            value, error = float(r["default_value"]), float(r["default_error"])
+            limit, limit_error = float(r["limit"]), float(r["limit_error"])
+            sigma = math.hypot(error if math.isfinite(error) else 0.0, limit_error if math.isfinite(limit_error) else 0.0)
+            near += abs(value - limit) <= max(NEAR_LIMIT * abs(limit), sigma)
+        words = []
+        for c, n in count.items():
+            if not n:
+                continue
+            words.append(f"{c} {n}")
+            if c == "converging":
+                words[-1] += f" (at {near} of them the default step within {NEAR_LIMIT * 100:g} % of the limit or its errors)"
+        parts.append(f"{mine[0]['label']}: " + ", ".join(words))
+    if not parts:
+        return []
+    return [
+        "",
+        f"**Step dependence** of the quantities above over the convergence study's {len({(r['packing_fraction'], r['restitution'], r['friction']) for r in rows})} "
+        f"state points (`{path}`: {header}; classes and tables in docs/results/convergence.md): " + "; ".join(parts) + ".",
+        "",
+    ]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--size", required=True)
@@ -1309,6 +1377,7 @@ def main():
     ap.add_argument("--ch6-network-halfstep", help="gf-network table of the half-step runs and their pairs (Fig 6.7)")
     ap.add_argument("--ch6-stz", help="gf-stz fit table (Figs 6.10-6.11)")
     ap.add_argument("--ch6-d2min", help="d2min_maps.py table of the Fig. 6.9 maps")
+    ap.add_argument("--step-classes", help="convergence.py --classes-csv output: each section's step dependence")
     ap.add_argument("packings", nargs="+")
     args = ap.parse_args()
     ch4 = (args.ch4_sweep, args.ch4_bagnold, args.ch4_reference)
@@ -1332,22 +1401,27 @@ def main():
     ]
     for name, n, nu, got, ov, seed in packing_rows(args.packings):
         lines.append(f"| {name} | {n} | {nu:.3f} | {got:.12f} | {ov:.2e} | {seed} |")
+    classes = read_step_classes(args.step_classes) if args.step_classes else None
+
+    def section(name, body):
+        return body + step_note(classes, name, args.step_classes)
+
     if all(ch4):
-        lines += ch4_section(*ch4)
+        lines += section("ch4", ch4_section(*ch4))
     if args.ch4_incline:
-        lines += incline_section(args.ch4_incline, args.ch4_critical, args.ch4_sweep)
+        lines += section("incline", incline_section(args.ch4_incline, args.ch4_critical, args.ch4_sweep))
     if args.ch5_correlate:
-        lines += ch5_section(args.ch5_correlate, args.ch5_clusters)
+        lines += section("ch5", ch5_section(args.ch5_correlate, args.ch5_clusters))
     if args.ch5_jamming:
-        lines += ch5_jamming_section(args.ch5_jamming)
+        lines += section("ch5_jamming", ch5_jamming_section(args.ch5_jamming))
     if args.ch6_kinetic:
-        lines += ch6_section(args.ch6_kinetic, args.ch5_correlate)
+        lines += section("ch6_kinetic", ch6_section(args.ch6_kinetic, args.ch5_correlate))
     if args.ch6_network:
-        lines += ch6_network_section(args.ch6_network, args.ch6_network_halfstep)
+        lines += section("ch6_network", ch6_network_section(args.ch6_network, args.ch6_network_halfstep))
     if args.ch6_d2min:
-        lines += ch6_d2min_section(args.ch6_d2min)
+        lines += section("ch6_d2min", ch6_d2min_section(args.ch6_d2min))
     if args.ch6_stz:
-        lines += ch6_stz_section(args.ch6_stz, args.ch4_critical)
+        lines += section("ch6_stz", ch6_stz_section(args.ch6_stz, args.ch4_critical))
     out = atomic_output(args.output)
     try:
         with open(out.name, "w") as fh:

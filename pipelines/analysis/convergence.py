@@ -37,7 +37,8 @@ packing_fraction, restitution, friction, tolerance, step, observable, value, err
 restitution, friction, grains, observable, class, steps, span, default_value, default_error,
 finest_step, finest_value, finest_error, limit, limit_error, limit_exponent, step_1pct,
 exponent, exponent_error, chi2_dof, exponent_finest (between the two finest steps), change
-(finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point.
+(finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point;
+--classes-csv the classes alone, one CSV line per (point, observable), for report.py --step-classes.
 """
 import argparse
 import math
@@ -480,6 +481,7 @@ def main():
     ap.add_argument("--tolerance", type=float, default=1e-10, help="the default solver tolerance (1e-10)")
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("--markdown", help="also write the tables as Markdown to this file")
+    ap.add_argument("--classes-csv", help="also write every class as one CSV line per point and observable here")
     ap.add_argument("tables", nargs="+", help="per-run tables of steady_state.py, gf-correlate, gf-network, gf-kinetic")
     args = ap.parse_args()
     try:
@@ -491,7 +493,7 @@ def main():
     for path in args.tables:
         if not os.path.isfile(path):
             ap.error(f"{path}: no such table")
-    for out in (args.output, args.markdown):
+    for out in (args.output, args.markdown, args.classes_csv):
         if out and any(os.path.abspath(out) == os.path.abspath(t) for t in args.tables):
             ap.error(f"{out}: the output is also an input")
     try:
@@ -583,7 +585,35 @@ def main():
             out.commit()
         finally:
             out.abandon()
+    if args.classes_csv:
+        write_classes_csv(args.classes_csv, classes, observables, args.default_step, activation)
     return 0
+
+
+CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "observable", "label", "class",
+               "default_value", "default_error", "limit", "limit_error", "exponent", "exponent_error")
+
+
+def write_classes_csv(path, classes, observables, default_step, activation):
+    """One line per (point, observable) classified: the columns of CSV_COLUMNS, after a comment
+    line naming the default step and the activation (read by report.py --step-classes)."""
+    import csv
+
+    labels = {o[0]: o[1] for o in observables}
+    out = outputs.atomic_output(path)
+    try:
+        with open(out.name, "w", newline="") as fh:
+            fh.write(f"# convergence.py classes at the default step {default_step:g}, activation {activation}\n")
+            w = csv.writer(fh)
+            w.writerow(CSV_COLUMNS)
+            for key in sorted(classes):
+                for obs in sorted(classes[key]):
+                    c = classes[key][obs]
+                    w.writerow([f"{key[1]:.3f}", f"{key[2]:.2f}", f"{key[3]:.2f}", key[0], obs, labels.get(obs, obs),
+                                c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])])
+        out.commit()
+    finally:
+        out.abandon()
 
 
 if __name__ == "__main__":

@@ -1,7 +1,6 @@
 # The convergence study (make -f Makefile.sweeps convergence; pipelines/convergence.mk, results in
 # docs/results/convergence.md): which observables reach a limit as the strain step γ̇dt -> 0.
 # Another grid: make -f Makefile.sweeps convergence CONVERGENCE=path/to/grid.mk (the same names).
-# CONV_ACTIVATION (gf-shear --activation, default predicted-gap) and CONV_RUNS may be set there too.
 #
 # State points "ν:e:μ", each run at every strain step of CONV_STEPS (at least two), N = CONV_GRAINS,
 # the default tolerance. The reference point (a dilute, nearly elastic flow) gives ξ_el at each step.
@@ -37,7 +36,3 @@ CONV_FRAME_STRAIN  := 4e-2
 # z, Φ, Ψ and the fabric also over geometric contacts (gf-network --contact-gap), these gaps in
 # mean diameters.
 CONV_CONTACT_GAPS  := 1e-4 1e-3 1e-2
-# ν_bc(e) against the step (make -f Makefile.sweeps phase-step): the SIZE's chapter-5 sweep at
-# μ = 0 over PHASE_NU at each of PHASE_STEPS (which must hold the SIZE's SHEAR_STRAIN_STEP).
-PHASE_STEPS := 1e-3 2.5e-4 1.25e-4 6.25e-5
-PHASE_NU    := 0.700 0.740 0.760 0.770 0.780 0.790 0.800 0.810 0.820

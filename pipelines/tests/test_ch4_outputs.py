@@ -94,6 +94,7 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         )
         with open(out) as fh:
             text = fh.read()
+        self.assertNotIn("Step dependence", text)
         self.assertIn("## Packings", text)
         for needle in (
             "## Chapter 4",
@@ -110,3 +111,44 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class StepNoteTest(unittest.TestCase):
+    """report.py's step-dependence paragraph on a constructed classes file with known counts."""
+
+    CSV = """# convergence.py classes at the default step 0.001, activation predicted-gap
+packing_fraction,restitution,friction,grains,observable,label,class,default_value,default_error,limit,limit_error,exponent,exponent_error
+0.800,0.50,0.00,1000,p,p/(mγ̇²),converged,90,1,nan,nan,nan,nan
+0.800,0.00,0.00,1000,p,p/(mγ̇²),converging,100,1,99,0.5,nan,nan
+0.820,0.92,0.00,1000,p,p/(mγ̇²),converging,110,1,100,1,nan,nan
+0.760,0.50,0.00,1000,p,p/(mγ̇²),unsettled,50,5,nan,nan,nan,nan
+0.800,0.50,0.00,1000,s_over_p,s/p,converged,0.3,0.001,nan,nan,nan,nan
+0.800,0.50,0.00,1000,z,z (age ≥ 2),regularisation-dependent,0.6,0.01,nan,nan,0.8,0.1
+"""
+
+    def setUp(self):
+        import report
+
+        self.report = report
+        self.tmp = tempfile.TemporaryDirectory()
+        self.path = os.path.join(self.tmp.name, "classes.csv")
+        with open(self.path, "w") as fh:
+            fh.write(self.CSV)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_counts_and_near_limit(self):
+        classes = self.report.read_step_classes(self.path)
+        text = "\n".join(self.report.step_note(classes, "ch4", self.path))
+        self.assertIn("over the convergence study's 4 state points", text)
+        self.assertIn("activation predicted-gap", text)
+        # 100 against 99 ± 0.5 is within 2 %; 110 against 100 is not.
+        self.assertIn("p/(mγ̇²): converged 1, converging 2 (at 1 of them the default step within 2 % of the limit or "
+                      "its errors), unsettled 1", text)
+        self.assertIn("s/p: converged 1", text)
+        self.assertNotIn("z (age", text)
+        net = "\n".join(self.report.step_note(classes, "ch6_network", self.path))
+        self.assertIn("z (age ≥ 2): regularisation-dependent 1", net)
+        self.assertIn("not known", "\n".join(self.report.step_note(classes, "incline", self.path)))
+        self.assertEqual(self.report.step_note(None, "ch4", self.path), [])

@@ -89,7 +89,7 @@ class PhaseStepMakeTest(unittest.TestCase):
                     fh.write("0\n")
         cmd = [
             "make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",
-            f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
+            f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"PHASE_GRID={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
             # The reference at ν = 0.7: 64 dilute elastic grains may have no contact in any frame.
             f"FIGURES={d}/figures", "CH5_REFERENCE_NU=0.700", *extra, "phase-step-files",
         ]
