@@ -8,6 +8,7 @@ CONV_ACTIVATION       := overlap
 CONV_RUNS             := runs/convergence-overlap
 CONV_POINTS           := 0.800:0.50:0.00 0.800:0.00:0.00
 CONV_FINE_POINTS      :=
+CONV_FINE_STEPS       :=
 CONV_LARGE_GRAINS     :=
 CONV_OTHER_TOLERANCES :=
 CONV_FIGURE            = $(FIGURES)/fig4_2_step_overlap.png
