@@ -50,16 +50,16 @@ NU_C = 0.845  # the thesis' jamming packing fraction, as in Fig. 5.10
 
 
 def table_step(table, cache):
-    """The one strain step of a table's runs (SystemExit when they differ or cannot be read)."""
+    """The one strain step of a table's runs (ValueError when they differ or cannot be read)."""
     steps = set()
     for path in table["runs"]["input"]:
         path = path.decode() if isinstance(path, bytes) else str(path)
         try:
             steps.add(convergence.run_key(path, cache)[5])
         except (OSError, KeyError) as error:
-            raise SystemExit(f"{table['path']}: cannot read the step of its run {path}: {error}")
+            raise ValueError(f"{table['path']}: cannot read the step of its run {path}: {error}")
     if len(steps) != 1:
-        raise SystemExit(f"{table['path']}: its runs have {len(steps)} strain steps ({sorted(steps)}); one is needed")
+        raise ValueError(f"{table['path']}: its runs have {len(steps)} strain steps ({sorted(steps)}); one is needed")
     return steps.pop()
 
 
@@ -69,13 +69,13 @@ def read_steps(paths):
     for path in paths:
         table = ct.read_table(path)
         if "sweep" not in table:
-            raise SystemExit(f"{path}: no /sweep: made without --reference; ν_bc needs the reference run")
+            raise ValueError(f"{path}: no /sweep: made without --reference; ν_bc needs the reference run")
         h = table_step(table, cache)
         if h in by_step:
-            raise SystemExit(f"{path}: a second table at step {h:g} (the first: {by_step[h][0]['path']})")
+            raise ValueError(f"{path}: a second table at step {h:g} (the first: {by_step[h][0]['path']})")
         by_step[h] = (table, ct.analyse(table))
     if len(by_step) < 2:
-        raise SystemExit("need tables at two strain steps or more")
+        raise ValueError("need tables at two strain steps or more")
     return by_step
 
 
@@ -201,13 +201,11 @@ def figure(path, by_step, crossovers, default_step, threshold):
             left.errorbar([r["nu_bc"] for r in series], [r["restitution"] for r in series],
                           xerr=[r["nu_bc_error"] for r in series], fmt="o-", ms=4, capsize=2, color=f"C{i}", label=label)
         table, res = by_step[h]
-        runs = table["runs"]
-        for e in sorted({float(x) for x in runs["restitution"]}):
-            rows = [k for k in ct.select(table, restitution=e, friction=0.0) if res["measurable"][k]
-                    and k not in set(res["reference_rows"])]
-            if rows and math.isclose(e, 0.5, abs_tol=1e-6):
-                right.errorbar(runs["packing_fraction"][rows], res["ratio"][rows], yerr=res["ratio_error"][rows],
-                               fmt="o-", ms=3, capsize=2, color=f"C{i}", label=label)
+        reference = set(res["reference_rows"])
+        rows = [k for k in ct.select(table, restitution=0.5, friction=0.0) if res["measurable"][k] and k not in reference]
+        if rows:
+            right.errorbar(table["runs"]["packing_fraction"][rows], res["ratio"][rows], yerr=res["ratio_error"][rows],
+                           fmt="o-", ms=3, capsize=2, color=f"C{i}", label=label)
     left.axvline(NU_C, color="k", ls="--", lw=1, label="ν_c ≈ 0.845 (thesis)")
     left.set_xlabel("packing fraction ν_bc")
     left.set_ylabel("restitution e")
@@ -231,13 +229,17 @@ def main(argv=None):
     ap.add_argument("tables", nargs="+", help="chapter-5 gf-correlate tables, one per strain step")
     args = ap.parse_args(argv)
     if not (math.isfinite(args.default_step) and args.default_step > 0):
-        raise SystemExit(f"--default-step: must be a positive number (got {args.default_step})")
-    by_step = read_steps(args.tables)
-    if not any(math.isclose(h, args.default_step, rel_tol=1e-9) for h in by_step):
-        raise SystemExit(f"--default-step {args.default_step:g}: no table at it (steps {sorted(by_step)})")
-    thresholds = {by_step[h][1]["threshold"] for h in by_step}
-    if len(thresholds) != 1:
-        raise SystemExit(f"the tables use different thresholds {sorted(thresholds)}")
+        ap.error(f"--default-step: must be a positive number (got {args.default_step})")
+    try:
+        by_step = read_steps(args.tables)
+        if not any(math.isclose(h, args.default_step, rel_tol=1e-9) for h in by_step):
+            raise ValueError(f"--default-step {args.default_step:g}: no table at it (steps {sorted(by_step)})")
+        thresholds = {by_step[h][1]["threshold"] for h in by_step}
+        if len(thresholds) != 1:
+            raise ValueError(f"the tables use different thresholds {sorted(thresholds)}")
+    except (OSError, KeyError, ValueError) as error:
+        print(f"phase_step.py: {error}", file=sys.stderr)
+        return 2
     threshold = thresholds.pop()
     crossovers = crossover_rows(by_step)
     runs = run_rows(by_step)
@@ -251,7 +253,7 @@ def main(argv=None):
     ) as f:
         for name, rows in (("crossover", crossovers), ("runs_by_step", runs)):
             g = f.create_group(name)
-            for column in rows[0]:
+            for column in rows[0] if rows else ():
                 values = [r[column] for r in rows]
                 if isinstance(values[0], str):
                     outputs.text_dataset(g, column, values)
@@ -275,7 +277,8 @@ def main(argv=None):
             out.abandon()
     if args.figure:
         figure(args.figure, by_step, crossovers, args.default_step, threshold)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -45,6 +45,21 @@ class ClassesTest(unittest.TestCase):
         self.assertEqual(phase_step.crossing_text(crossing(1e-3, 0.9, np.nan, np.nan, "all_above")), "< 0.700")
 
 
+class BadInputTest(unittest.TestCase):
+    def test_one_table_is_refused(self):
+        import contextlib
+        import io
+
+        with tempfile.TemporaryDirectory() as d:
+            missing = os.path.join(d, "none.h5")
+            err = io.StringIO()
+            with contextlib.redirect_stderr(err):
+                code = phase_step.main(["--default-step", "1e-3", "-o", os.path.join(d, "out.h5"), missing])
+            self.assertEqual(code, 2)
+            self.assertEqual(len(err.getvalue().strip().splitlines()), 1, err.getvalue())
+            self.assertEqual(os.listdir(d), [])
+
+
 class FlipsTest(unittest.TestCase):
     def test_flips_between_default_and_finest(self):
         runs = [
