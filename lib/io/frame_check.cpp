@@ -85,4 +85,15 @@ std::string frame_problem(const Frame& frame, std::size_t k, std::size_t grains,
   return "";
 }
 
+std::string observable_problem(const std::string& name, const std::string& column, const std::vector<double>& values,
+                               std::size_t per_row) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (std::isfinite(values[k])) continue;
+    std::string where = schema::kObservables + "/" + name + "/" + column + ": row " + std::to_string(k / per_row);
+    if (per_row == 4) where += ", element [" + std::to_string(k % 4 / 2) + "][" + std::to_string(k % 2) + "]";
+    return where + " is " + format_number(values[k], 17) + ", must be finite";
+  }
+  return "";
+}
+
 }  // namespace granflow::io

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/trajectory.hpp"
 
@@ -23,5 +24,10 @@ std::string box_problem(const Box& box, std::size_t frame);
 //   increasing order and ages >= 1, is checked where a run starts: packing/start_check.hpp.)
 // first_row: the row of /contacts holding the frame's first contact (named in the phrase).
 std::string frame_problem(const Frame& frame, std::size_t frame_index, std::size_t grains, std::int64_t first_row);
+//   observables: every value (and time) finite. `values` holds dataset
+//   /observables/<name>/<column> row after row, `per_row` numbers a row (1 for a scalar, 4
+//   for a 2x2 tensor, row-major); the phrase names the row (and the tensor's element).
+std::string observable_problem(const std::string& name, const std::string& column, const std::vector<double>& values,
+                               std::size_t per_row = 1);
 
 }  // namespace granflow::io

@@ -201,6 +201,8 @@ class TrajectoryReader {
   bool has_observable(const std::string& name) const;
   std::vector<std::string> observable_names() const;
   std::vector<std::int64_t> observable_step(const std::string& name) const;
+  // Times and values are checked as read: a non-finite one is a UsageError naming the file,
+  // the dataset and the row (frame_check.hpp, observable_problem).
   std::vector<double> observable_time(const std::string& name) const;
   std::vector<double> observable_scalar(const std::string& name) const;
   std::vector<Mat2> observable_tensor(const std::string& name) const;

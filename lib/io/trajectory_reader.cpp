@@ -317,14 +317,18 @@ std::vector<std::int64_t> TrajectoryReader::observable_step(const std::string& n
 std::vector<double> TrajectoryReader::observable_time(const std::string& name) const {
   return as_usage_error([&] {
     if (!impl_->has_observable(name)) impl_->bad("no observable '" + name + "'");
-    return impl_->read<double>(schema::kObservables + "/" + name + "/time");
+    std::vector<double> time = impl_->read<double>(schema::kObservables + "/" + name + "/time");
+    if (std::string problem = observable_problem(name, "time", time); !problem.empty()) impl_->bad(problem);
+    return time;
   });
 }
 
 std::vector<double> TrajectoryReader::observable_scalar(const std::string& name) const {
   return as_usage_error([&] {
     Dataset value = impl_->observable_value(name, {});
-    return read_all<double>(value.get());
+    std::vector<double> values = read_all<double>(value.get());
+    if (std::string problem = observable_problem(name, "value", values); !problem.empty()) impl_->bad(problem);
+    return values;
   });
 }
 
@@ -332,6 +336,7 @@ std::vector<Mat2> TrajectoryReader::observable_tensor(const std::string& name) c
   return as_usage_error([&] {
     Dataset value = impl_->observable_value(name, schema::kTensorShape);
     std::vector<double> flat = read_all<double>(value.get());
+    if (std::string problem = observable_problem(name, "value", flat, 4); !problem.empty()) impl_->bad(problem);
     std::vector<Mat2> tensors(flat.size() / 4);
     for (std::size_t r = 0; r < tensors.size(); ++r)
       tensors[r] << flat[4 * r], flat[4 * r + 1], flat[4 * r + 2], flat[4 * r + 3];  // row-major

@@ -232,9 +232,17 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
   } else {
     for (FitRunRow& r : table.runs) r.dense = r.packing_fraction >= settings.min_packing_fraction;
   }
-  for (FitRunRow& r : table.runs)
-    r.fitted = r.dense && r.restitution == settings.fit_restitution && positive_finite(r.rate_R_over_sqrt_T) &&
-               positive_finite(r.s_over_p) && positive_finite(r.inertial_number);
+  std::vector<std::string> left_out;  // dense runs at the fitted restitution that cannot be fitted, and why
+  for (FitRunRow& r : table.runs) {
+    const bool candidate = r.dense && r.restitution == settings.fit_restitution;
+    r.fitted = candidate && positive_finite(r.rate_R_over_sqrt_T) && positive_finite(r.s_over_p) &&
+               positive_finite(r.inertial_number);
+    if (candidate && !r.fitted)
+      left_out.push_back("'" + r.input + "' (x = " + format_number(r.rate_R_over_sqrt_T) +
+                         ", s/p = " + format_number(r.s_over_p) + ", I = " + format_number(r.inertial_number) +
+                         "; each must be > 0 and finite)");
+  }
+  for (const std::string& run : left_out) table.notes.push_back("left out of the fit: " + run);
 
   for (const std::string& path : settings.incline)
     for (FitRunRow& r : read_incline_rows(path)) {
@@ -337,7 +345,11 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
                      format_number(settings.fit_restitution) + ", dense by " +
                      (by_xi ? "xi/xi_el >= " + format_number(settings.dense_ratio)
                             : "packing fraction >= " + format_number(settings.min_packing_fraction)) +
-                     ")");
+                     ")" +
+                     (left_out.empty()
+                          ? ""
+                          : "; left out of the fit: " + left_out.front() +
+                                (left_out.size() > 1 ? " and " + std::to_string(left_out.size() - 1) + " more" : "")));
   return table;
 }
 
