@@ -6,6 +6,7 @@
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "core/tool.hpp"
 #include "correlation/analysis.hpp"
 #include "correlation/force_distribution.hpp"
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < cli.positional().size(); ++k) io::add_input(parameters, cli.positional()[k], int(k));
     for (std::size_t k = 0; k < references.size(); ++k) io::add_input(parameters, references[k], int(k), "reference");
     correlation::write_report(out.temp_path(), report, parameters);
+    check_interrupt();
     out.commit();
 
     if (!s.quiet && !s.xi_el && references.empty())

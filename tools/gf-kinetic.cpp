@@ -5,6 +5,7 @@
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "core/tool.hpp"
 #include "io/provenance.hpp"
 #include "kinetic/table.hpp"
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < equilibrium.size(); ++k)
       io::add_input(parameters, equilibrium[k], int(k), "equilibrium");
     kinetic::write_table(out.temp_path(), table, parameters);
+    check_interrupt();
     out.commit();
 
     if (!s.quiet) {

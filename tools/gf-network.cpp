@@ -6,6 +6,7 @@
 
 #include "core/cli.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "core/tool.hpp"
 #include "io/provenance.hpp"
 #include "network/table.hpp"
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < cli.positional().size(); ++k) io::add_input(parameters, cli.positional()[k], int(k));
     if (!s.correlation.empty()) io::add_input(parameters, s.correlation, 0, "correlation");
     network::write_table(out.temp_path(), table, parameters);
+    check_interrupt();
     out.commit();
 
     if (!s.quiet) {

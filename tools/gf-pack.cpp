@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
       // The count used, also when --height gave it.
       parameters.set("grains", std::int64_t(std::count(packing.fixed.begin(), packing.fixed.end(), 0)));
       write_packing(out.temp_path(), packing, parameters);
+      check_interrupt();
       out.commit();
     } else {
       PackingParams p;
@@ -122,6 +123,7 @@ int main(int argc, char** argv) {
       bar.finish();
       parameters.set("grains", std::int64_t(packing.radius.size()));
       write_packing(out.temp_path(), packing, parameters);
+      check_interrupt();
       out.commit();
     }
     if (!quiet) {

@@ -7,6 +7,7 @@
 #include "core/cli.hpp"
 #include "core/error.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "core/tool.hpp"
 #include "io/trajectory.hpp"
 #include "io/xdmf.hpp"
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
       file.close();
       if (!file) throw RuntimeFailure("cannot write '" + out.temp_path() + "'");
     }
+    check_interrupt();
     out.commit();
     if (!cli.flag_set("quiet"))
       std::fprintf(stderr, "gf-xdmf: %s: %zu frame(s), %zu grains, %zu contacts, referencing '%s'\n", output.c_str(),

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/signals.hpp"
 #include "io/schema.hpp"
 
 namespace granflow::io {
@@ -96,7 +97,10 @@ std::string xdmf_description(const TrajectoryReader& reader, const std::string& 
   // The values a picture cannot do without are checked as every program checks them:
   // radii and masses, and each frame's box (docs/file-format.md, Reading errors).
   reader.grains();
-  for (std::size_t k = 0; k < n; ++k) reader.box(k);
+  for (std::size_t k = 0; k < n; ++k) {
+    check_interrupt();
+    reader.box(k);
+  }
   const std::vector<double> times = reader.frame_times();
   std::vector<std::int64_t> offset(n + 1, 0);
   if (reader.has_contacts()) {

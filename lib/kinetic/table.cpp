@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "core/signals.hpp"
 #include "io/analysis_writer.hpp"
 #include "kinetic/kinetic.hpp"
 #include "shear/steady_window.hpp"
@@ -173,6 +174,7 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
               std::to_string(o.step.back()) +
               "); store more frames (gf-shear --frame-every) or start the window earlier");
   for (std::size_t k : frames) {
+    check_interrupt();
     const io::Frame frame = o.reader.frame(k);
     double births = 0, product = 0;
     for (std::size_t c = 0; c < frame.contacts.size(); ++c) {

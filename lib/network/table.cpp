@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "core/signals.hpp"
 #include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
@@ -173,6 +174,7 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     gap = settings.contact_gap * 2 * mean(radius);
   }
   for (std::size_t k = 0; k < frames.size(); ++k) {
+    check_interrupt();
     const io::Frame frame = o.reader.frame(frames[k]);
     if (!frame.has_contacts) throw bad("frame " + std::to_string(frames[k]) + " has no contacts stored");
     try {

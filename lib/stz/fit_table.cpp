@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "core/sha256.hpp"
+#include "core/signals.hpp"
 #include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
@@ -214,6 +215,7 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
   std::map<std::string, std::string> seen;  // sha256 → path
   for (const std::string& path : runs) {
     FitRunRow row = read_shear_row(path, settings.window);
+    check_interrupt();
     const auto [it, fresh] = seen.emplace(row.input_sha256, path);
     if (!fresh) throw UsageError("'" + path + "': the same run as '" + it->second + "' (same sha256): given twice");
     table.runs.push_back(std::move(row));

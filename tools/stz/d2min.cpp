@@ -10,6 +10,7 @@
 #include "core/cli.hpp"
 #include "core/error.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "io/provenance.hpp"
 #include "stz/commands.hpp"
 #include "stz/d2min_file.hpp"
@@ -105,6 +106,7 @@ int d2min_command(int argc, char** argv) {
   io::add_hashed_input(parameters, request.trajectory, result.trajectory_sha256);
   if (!request.branch.empty()) io::add_input(parameters, request.branch, 0, "branch");
   stz::write_d2min(out.temp_path(), result, parameters);
+  check_interrupt();
   out.commit();
 
   if (!request.quiet) {

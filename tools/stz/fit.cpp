@@ -6,6 +6,7 @@
 #include "core/cli.hpp"
 #include "core/error.hpp"
 #include "core/output_file.hpp"
+#include "core/signals.hpp"
 #include "io/provenance.hpp"
 #include "stz/commands.hpp"
 #include "stz/fit_table.hpp"
@@ -85,6 +86,7 @@ int fit_command(int argc, char** argv) {
   if (!s.correlation.empty()) io::add_input(parameters, s.correlation, 0, "correlation");
   for (std::size_t k = 0; k < s.incline.size(); ++k) io::add_input(parameters, s.incline[k], int(k), "incline");
   stz::write_fit_table(out.temp_path(), table, parameters);
+  check_interrupt();
   out.commit();
 
   if (!s.quiet) {
