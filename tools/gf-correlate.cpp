@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
     cli.integer_option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
     cli.text_option("reference", 0, "FILES",
                     "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el, "
-                    "xi/xi_el is NaN and nu_bc is not computed)");
+                    "xi/xi_el is NaN and nu_bc is not computed); one list, the option given once; a name with a comma "
+                    "cannot be listed (link it under another name)");
     cli.real_option("xi-el", 0, "XI", "the elastic reference length xi_el, instead of --reference");
     cli.real_option("threshold", 0, "C", "xi/xi_el at the binary-collision crossover nu_bc", "1.25");
     cli.real_option("force-bin-width", 0, "DF", "bin width of P(f) in units of the mean force", "0.05");

@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.text_option("equilibrium", 0, "FILES",
                     "comma-separated elastic (e = 1) unsheared (rate 0) gf-shear runs that measure chi(nu): the "
-                    "/equilibrium table; without it chi is Henderson's formula (chi_source 2)");
+                    "/equilibrium table; without it chi is Henderson's formula (chi_source 2); one list, the option "
+                    "given once; a name with a comma cannot be listed (link it under another name)");
     cli.real_option("from-strain", 0, "S", "sheared runs: average the rows at shear strain >= S", "0.5");
     cli.real_option("from-time", 0, "T",
                     "runs at rate 0 (equilibrium runs): average the rows at time >= T; negative = the second half "

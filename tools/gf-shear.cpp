@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "core/cli.hpp"
+#include "core/format.hpp"
 #include "core/output_file.hpp"
 #include "core/tool.hpp"
 #include "run/runner.hpp"
@@ -68,9 +69,12 @@ int main(int argc, char** argv) {
     if (cli.given("dt")) {
       dt = cli.real("dt");
       require_positive("dt", dt);
+      if (!(std::fabs(rate) * dt < 0.5))
+        throw UsageError("option --dt: the strain step |rate·dt| = " + format_number(std::fabs(rate) * dt) +
+                         " must be below 0.5");
     } else if (rate != 0) {
       const double strain_step = cli.real("strain-step");
-      require_positive("strain-step", strain_step);
+      require_in_range("strain-step", strain_step, 0, 0.5, true, true);
       dt = strain_step / std::fabs(rate);
     } else if (!(temperature > 0)) {
       throw UsageError("with --rate 0 give --dt, or --temperature to derive it");

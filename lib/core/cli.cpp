@@ -1,9 +1,11 @@
 #include "core/cli.hpp"
 #include "core/format.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -179,6 +181,7 @@ bool CommandLine::parse(int argc, const char* const* argv) {
       spec = find_short(arg[1]);
       if (!spec) throw UsageError("unknown option '" + arg + "' (see --help)");
     }
+    ++spec->times_given;
     if (spec->kind == OptionKind::flag) {
       if (inline_value) throw UsageError("option --" + spec->name + " takes no value");
       spec->value = "1";
@@ -224,9 +227,36 @@ const CommandLine::Spec* CommandLine::find_of_kind(const std::string& name, Opti
 std::vector<std::string> CommandLine::text_list(const std::string& name) const {
   std::vector<std::string> items;
   if (!has(name)) return items;
-  std::stringstream in(text(name));
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) items.push_back(item);
+  const Spec* s = find(name);
+  if (s->times_given > 1)
+    throw UsageError("option --" + name + ": given " + std::to_string(s->times_given) +
+                     " times; give every file in one comma-separated list (--" + name + " A.h5,B.h5)");
+  const std::string list = text(name);
+  if (list.empty()) return items;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = list.find(',', start);
+    items.push_back(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (std::all_of(items.begin(), items.end(), [](const std::string& item) { return item.empty(); })) return {};
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].empty())
+      throw UsageError("option --" + name + ": item " + std::to_string(k + 1) + " of '" + list +
+                       "' is empty (files are separated by single commas)");
+  // A comma inside a file name splits it; say so when the joined items name a file.
+  std::error_code ec;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    if (std::filesystem::exists(items[k], ec)) continue;
+    std::string joined = items[k];
+    for (std::size_t j = k + 1; j < items.size(); ++j) {
+      joined += "," + items[j];
+      if (std::filesystem::exists(joined, ec))
+        throw UsageError("option --" + name + ": '" + joined +
+                         "' contains a comma, which separates the files of the list; give it through a symbolic "
+                         "link or a name without one");
+    }
+  }
   return items;
 }
 

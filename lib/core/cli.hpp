@@ -47,8 +47,11 @@ class CommandLine {
   bool given(const std::string& name) const;  // given on the command line
   bool flag_set(const std::string& name) const;
   std::string text(const std::string& name) const;
-  // A text option holding a comma-separated list (FILE,FILE,...): its non-empty items, none
-  // when the option was not given and has no default.
+  // A text option holding one comma-separated list of files (FILE,FILE,...): its items, none
+  // when the option was not given or holds no file ("" or only commas) and has no default. UsageError naming the
+  // option when it was given more than once (a later list would silently replace the
+  // earlier one), for an empty item (",," or a comma at either end), and for a file whose
+  // name contains a comma (the separator has no escape: link or rename such a file).
   std::vector<std::string> text_list(const std::string& name) const;
   // The value of a real or integer option: a finite double, or a whole number (1e4 is
   // accepted), else UsageError naming the option. Reading an option of another declared
@@ -78,6 +81,7 @@ class CommandLine {
     std::string default_value;
     OptionKind kind;
     std::optional<std::string> value;
+    int times_given = 0;
     bool applies = true;
   };
   void declare(const std::string& name, char short_name, const std::string& value_name, const std::string& help,

@@ -444,6 +444,11 @@ TEST_P(GfKineticBadInput, FailsWithExitTwoOneLineNoOutput) {
   static const std::string eq3 = equilibrium("eq3.h5", 0.3, 1, 0), eq4 = equilibrium("eq4.h5", 0.4, 1, 0);
   static const std::string inelastic = equilibrium("inelastic.h5", 0.4, 0.9, 0);
   static const std::string sheared = equilibrium("sheared.h5", 0.4, 1, 1);
+  static const std::string comma = [] {
+    const std::string path = dir / "eq,3.h5";
+    std::filesystem::copy_file(eq3, path);
+    return path;
+  }();
   static const std::string truncated = [] {
     const std::string path = dir / "truncated.h5";
     std::ifstream in(run, std::ios::binary);
@@ -466,6 +471,7 @@ TEST_P(GfKineticBadInput, FailsWithExitTwoOneLineNoOutput) {
                   {"{eq4}", eq4},
                   {"{inelastic}", inelastic},
                   {"{sheared}", sheared},
+                  {"{comma}", comma},
                   {"{truncated}", truncated},
                   {"{text}", text},
                   {"{pack}", pack}},
@@ -486,6 +492,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "packing fraction 0.6 is outside the equilibrium table's range [0.3, 0.4]"},
         BadInput{"extrapolate_without_table", "{run} -o {out} --extrapolate", "--extrapolate: needs --equilibrium"},
         BadInput{"empty_equilibrium_list", "{run} -o {out} --equilibrium ,", "--equilibrium: no file given"},
+        BadInput{"equilibrium_given_twice", "{run} -o {out} --equilibrium {eq3} --equilibrium {eq4}",
+                 "option --equilibrium: given 2 times"},
+        BadInput{"equilibrium_empty_item", "{run} -o {out} --equilibrium {eq3},,{eq4}",
+                 "option --equilibrium: item 2 of"},
+        BadInput{"equilibrium_trailing_comma", "{run} -o {out} --equilibrium {eq3},",
+                 "option --equilibrium: item 2 of"},
+        BadInput{"equilibrium_name_with_comma", "{run} -o {out} --equilibrium {comma}", "option --equilibrium: '"},
         BadInput{"truncated_file", "{truncated} -o {out}", "truncated.h5"},
         BadInput{"not_hdf5", "{text} -o {out}", "text.h5"},
         BadInput{"second_input_bad", "{run} {pack} -o {out}", "is a packing"},

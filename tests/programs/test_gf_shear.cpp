@@ -247,6 +247,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"dt_zero", "-i {in} -o {out} --dt 0", "--dt"},
                       BadInput{"dt_negative", "-i {in} -o {out} --dt -1e-3", "--dt"},
                       BadInput{"strain_step_nan", "-i {in} -o {out} --strain-step nan", "--strain-step"},
+                      BadInput{"strain_step_too_large", "-i {in} -o {out} --strain-step 0.5", "--strain-step"},
                       BadInput{"rate_nan", "-i {in} -o {out} --rate nan", "--rate"},
                       BadInput{"tolerance_zero", "-i {in} -o {out} --tolerance 0", "--tolerance"},
                       BadInput{"threads_zero", "-i {in} -o {out} --threads 0", "--threads"},

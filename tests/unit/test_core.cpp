@@ -1,5 +1,6 @@
 // Unit tests for lib/core: command line, SHA-256, atomic outputs.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -216,11 +217,34 @@ TEST(CoreOutputFile, CommitRenamesAndAbandonRemoves) {
   fs::remove_all(dir);
 }
 
-TEST(CoreCli, TextListSplitsAtCommasAndSkipsEmptyItems) {
+TEST(CoreCli, TextListSplitsAtCommasAndRefusesWhatItCannotSplit) {
   auto given = related_cli();
-  ASSERT_TRUE(parse(given, {"-i", "a.h5,,b.h5,"}));
+  ASSERT_TRUE(parse(given, {"-i", "a.h5,b.h5"}));
   EXPECT_EQ(given.text_list("input"), (std::vector<std::string>{"a.h5", "b.h5"}));
   auto absent = related_cli();
   ASSERT_TRUE(parse(absent, {}));
   EXPECT_TRUE(absent.text_list("input").empty());
+  auto commas = related_cli();
+  ASSERT_TRUE(parse(commas, {"-i", ","}));
+  EXPECT_TRUE(commas.text_list("input").empty());
+  auto refused = [](std::vector<const char*> args, const std::string& piece) {
+    auto cli = related_cli();
+    ASSERT_TRUE(parse(cli, args));
+    try {
+      cli.text_list("input");
+      ADD_FAILURE() << "no UsageError for " << piece;
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("option --input: " + piece), std::string::npos) << e.what();
+    }
+  };
+  refused({"-i", "a.h5,,b.h5"}, "item 2 of 'a.h5,,b.h5' is empty");
+  refused({"-i", "a.h5,"}, "item 2 of 'a.h5,' is empty");
+  refused({"-i", ",a.h5"}, "item 1 of ',a.h5' is empty");
+  refused({"-i", "a.h5", "--input", "b.h5"}, "given 2 times");
+  const auto dir = std::filesystem::temp_directory_path() / ("granflow_text_list_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string named = (dir / "run,1.h5").string(), listed = named + "," + (dir / "b.h5").string();
+  std::ofstream(named) << "x";
+  refused({"-i", listed.c_str()}, "'" + named + "' contains a comma");
+  std::filesystem::remove_all(dir);
 }

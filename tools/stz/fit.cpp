@@ -34,7 +34,8 @@ int fit_command(int argc, char** argv) {
   cli.real_option("fit-restitution", 0, "E", "fit the dense runs of restitution E (exactly)", "0");
   cli.text_option("incline", 0, "FILES",
                   "comma-separated incline-bulk tables (pipelines/analysis/incline_bulk.py): their flowing rows are "
-                  "predicted, never fitted");
+                  "predicted, never fitted; one list, the option given once; a name with a comma cannot be listed "
+                  "(link it under another name)");
   cli.real_option("from-strain", 0, "S", "average the observable rows at shear strain >= S", "0.5");
   cli.flag("detect-transient", 0,
            "start each run later than --from-strain where its own transient ends: MSER on 100 block means of its "
