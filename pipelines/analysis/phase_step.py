@@ -200,6 +200,11 @@ def figure(path, by_step, crossovers, default_step, threshold):
         if series:
             left.errorbar([r["nu_bc"] for r in series], [r["restitution"] for r in series],
                           xerr=[r["nu_bc_error"] for r in series], fmt="o-", ms=4, capsize=2, color=f"C{i}", label=label)
+        for r in crossovers:
+            if r["step"] == h and r["friction"] == 0 and r["status"] in ("all_below", "all_above"):
+                beyond = r["status"] == "all_below"
+                left.plot(r["nu_high"] if beyond else r["nu_low"], r["restitution"], ">" if beyond else "<",
+                          ms=7, mfc="none", color=f"C{i}")
         table, res = by_step[h]
         reference = set(res["reference_rows"])
         rows = [k for k in ct.select(table, restitution=0.5, friction=0.0) if res["measurable"][k] and k not in reference]
@@ -209,7 +214,7 @@ def figure(path, by_step, crossovers, default_step, threshold):
     left.axvline(NU_C, color="k", ls="--", lw=1, label="ν_c ≈ 0.845 (thesis)")
     left.set_xlabel("packing fraction ν_bc")
     left.set_ylabel("restitution e")
-    left.set_title("ν_bc(e), μ = 0, at each strain step", fontsize=9)
+    left.set_title("ν_bc(e), μ = 0, at each strain step (hollow arrows: beyond the runs' ν range)", fontsize=9)
     left.legend(fontsize=7)
     right.axhline(threshold, color="k", ls=":", lw=1, label=f"threshold {threshold:g}")
     right.set_xlabel("packing fraction ν")
