@@ -137,3 +137,34 @@ $(PHASE_SUMMARY) &: $(PHASE_TABLES) pipelines/analysis/phase_step.py pipelines/a
                     $(GRANFLOW_PY) $(PHASE_GRID) | $(CONV_RUNS)/ $(FIGURES)/
 	$(PYTHON) pipelines/analysis/phase_step.py --default-step $(SHEAR_STRAIN_STEP) -o $(CONV_RUNS)/phase_step.h5 \
 	  --markdown $(CONV_RUNS)/phase_step.md --figure $(FIGURES)/fig5_10_step.png $(PHASE_TABLES)
+
+# The incline's observables against its time step (Figs 4.8-4.10; grid file $(INCLINE_STEP_GRID)):
+# the SIZE's μ = 0 incline runs at INCLINE_STEP_ANGLES, made again in $(CONV_RUNS)/incline_dt<h> at
+# each time step h (in τ) of INCLINE_STEPS by a sub-make of the SIZE's own rules, frames and
+# profile blocks at the SIZE's spacing in time, no μ = 0.4 branches; then incline_step.py:
+# $(CONV_RUNS)/incline_step.{h5,md}. The sub-make is always asked; it remakes only what is out of date.
+INCLINE_STEP_GRID ?= pipelines/sizes/incline_step.mk
+include $(INCLINE_STEP_GRID)
+INCLINE_STEP_TABLES  := $(INCLINE_STEPS:%=$(CONV_RUNS)/incline_dt%/ch4_incline.h5)
+INCLINE_STEP_SUMMARY := $(CONV_RUNS)/incline_step.h5 $(CONV_RUNS)/incline_step.md
+incline-step-files: $(INCLINE_STEP_SUMMARY)
+
+ifneq ($(filter incline-step incline-step-files,$(MAKECMDGOALS)),)
+ifeq ($(word 2,$(INCLINE_STEPS)),)
+$(error $(INCLINE_STEP_GRID): INCLINE_STEPS needs at least two time steps (got '$(strip $(INCLINE_STEPS))'))
+endif
+ifeq ($(filter $(INCLINE_TIME_STEP),$(INCLINE_STEPS)),)
+$(error $(INCLINE_STEP_GRID): INCLINE_STEPS must hold the SIZE's step INCLINE_TIME_STEP ($(INCLINE_TIME_STEP)))
+endif
+endif
+
+$(CONV_RUNS)/incline_dt%/ch4_incline.h5: phase-step-force
+	+$(MAKE) --no-print-directory -f $(SELF) RUNS=$(@D) INCLINE_TIME_STEP=$* \
+	  INCLINE_FRAME_EVERY=$(call conv_every,$(INCLINE_FRAME_EVERY)*$(INCLINE_TIME_STEP),$*) \
+	  INCLINE_PROFILE_BLOCK=$(call conv_every,$(INCLINE_PROFILE_BLOCK)*$(INCLINE_TIME_STEP),$*) \
+	  INCLINE_ANGLES_MU0="$(INCLINE_STEP_ANGLES)" INCLINE_ANGLES_MU04= $@
+
+$(INCLINE_STEP_SUMMARY) &: $(INCLINE_STEP_TABLES) pipelines/analysis/incline_step.py pipelines/analysis/convergence.py \
+                           pipelines/analysis/critical_angle.py $(GRANFLOW_PY) $(INCLINE_STEP_GRID) | $(CONV_RUNS)/
+	$(PYTHON) pipelines/analysis/incline_step.py --default-step $(INCLINE_TIME_STEP) --window $(INCLINE_CRITICAL_WINDOW) \
+	  -o $(CONV_RUNS)/incline_step.h5 --markdown $(CONV_RUNS)/incline_step.md $(INCLINE_STEP_TABLES)
