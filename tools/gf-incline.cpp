@@ -152,9 +152,9 @@ int main(int argc, char** argv) {
     warn_small_angle("gf-incline", angle);
     const RunStats stats = run_resumable(run.engine, run.writer, out, plan, run.stats, record_incline_observables);
     const ProfileAnalysis analysis = analyse_profiles(profiles, units, from_tau);
-    write_profiles(run.writer, profiles, analysis, units);
     report_steady("gf-incline", profiles, analysis, units, plan.quiet);
-    finish_run(cli, run.writer, out, run.engine, stats, plan);
+    finish_run(cli, run.writer, out, run.engine, stats, plan,
+               [&](io::TrajectoryWriter& w) { write_profiles(w, profiles, analysis, units); });
     return 0;
   });
 }

@@ -2,7 +2,6 @@
 // datasets (docs/programs/gf-xdmf.md).
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include "core/cli.hpp"
 #include "core/error.hpp"
@@ -69,12 +68,7 @@ int main(int argc, char** argv) {
     OutputFile out(output);
     io::XdmfSummary summary;
     const std::string text = io::xdmf_description(reader, h5_name, &summary);
-    {
-      std::ofstream file(out.temp_path(), std::ios::binary | std::ios::trunc);
-      file << text;
-      file.close();
-      if (!file) throw RuntimeFailure("cannot write '" + out.temp_path() + "'");
-    }
+    out.write_text(text);
     check_interrupt();
     out.commit();
     if (!cli.flag_set("quiet"))

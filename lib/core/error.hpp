@@ -14,6 +14,11 @@ struct UsageError : std::runtime_error {
 struct RuntimeFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// A file could not be written or closed (a full file system, a quota, an I/O error): exit
+// code 1. A resumable run keeps its last checkpoint and partial output (run/runner.hpp).
+struct WriteFailure : RuntimeFailure {
+  using RuntimeFailure::RuntimeFailure;
+};
 // SIGINT/SIGTERM reached a long loop: exit code 1 after cleaning up.
 struct Interrupted : std::runtime_error {
   explicit Interrupted(const std::string& what = "interrupted by signal; no output written")

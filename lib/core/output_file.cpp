@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +14,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "core/sha256.hpp"
 
 namespace granflow {
 
@@ -21,7 +24,7 @@ namespace {
 
 fs::path directory_of(const fs::path& p) { return p.parent_path().empty() ? fs::path(".") : p.parent_path(); }
 
-std::string temp_prefix(const fs::path& final_path) { return "." + final_path.filename().string() + ".part-"; }
+std::string temp_prefix(const fs::path& final_path) { return hidden_name(final_path.filename().string(), ".part-"); }
 
 bool digits(const std::string& s) {
   return !s.empty() && s.size() < 12 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
@@ -56,9 +59,59 @@ bool lock(int fd) {
 
 }  // namespace
 
+std::string hidden_name(const std::string& name, const std::string& suffix) {
+  // ".part-" + a pid of up to 10 digits + "-K" (K < 100), or ".checkpoint.new".
+  constexpr std::size_t kNameMax = 255, kLongestSuffix = 19, kKept = kNameMax - 1 - kLongestSuffix - 17;
+  if (1 + name.size() + kLongestSuffix <= kNameMax) return "." + name + suffix;
+  std::size_t kept = kKept;
+  while (kept > 0 && (static_cast<unsigned char>(name[kept]) & 0xC0) == 0x80) --kept;
+  return "." + name.substr(0, kept) + "~" + sha256_hex(name).substr(0, 16) + suffix;
+}
+
 std::string checkpoint_path(const std::string& output) {
   fs::path p(output);
-  return (p.parent_path() / ("." + p.filename().string() + ".checkpoint")).string();
+  return (p.parent_path() / hidden_name(p.filename().string(), ".checkpoint")).string();
+}
+
+void require_regular_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
+  const char* kind = S_ISFIFO(st.st_mode)   ? "a FIFO (named pipe)"
+                     : S_ISDIR(st.st_mode)  ? "a directory"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                                                                  : "not a file";
+  throw UsageError("'" + path + "': is " + kind + ", not a regular file");
+}
+
+std::string unfinished_run_message(const std::string& path) {
+  return "'" + path +
+         "': is an unfinished run (interrupted, or still being written): continue it with --resume of the same "
+         "command, or run that command without --resume to start over";
+}
+
+std::string file_system_of(const std::string& path) {
+  std::error_code ec;
+  fs::path dir = fs::absolute(directory_of(fs::path(path)), ec).lexically_normal();
+  struct stat st {};
+  if (ec || ::stat(dir.c_str(), &st) != 0) return "the file system holding '" + path + "'";
+  // The mount point: the highest ancestor on the same device.
+  fs::path mount = dir;
+  for (fs::path up = dir.parent_path(); !up.empty(); up = up.parent_path()) {
+    struct stat above {};
+    if (::stat(up.c_str(), &above) != 0 || above.st_dev != st.st_dev) break;
+    mount = up;
+    if (up == up.root_path()) break;
+  }
+  std::string text = "the file system holding '" + directory_of(fs::path(path)).string() + "' (mounted at " +
+                     mount.string();
+  struct statvfs vfs {};
+  if (::statvfs(dir.c_str(), &vfs) == 0) {
+    char free_text[64];
+    std::snprintf(free_text, sizeof free_text, ", %.1f MB free", double(vfs.f_bavail) * double(vfs.f_frsize) / 1e6);
+    text += free_text;
+  }
+  return text + ")";
 }
 
 std::vector<std::string> output_temporaries(const std::string& final_path) {
@@ -98,7 +151,7 @@ std::string own_temporary(const std::string& final_path) {
 
 OutputFile::OutputFile(std::string final_path, bool resumable)
     : final_path_(std::move(final_path)), resumable_(resumable) {
-  if (final_path_.empty()) throw UsageError("output path is empty");
+  if (final_path_.empty()) throw UsageError("option --output: the file name is empty");
   const fs::path p(final_path_);
   const fs::path dir = directory_of(p);
   std::error_code ec;
@@ -118,6 +171,9 @@ OutputFile::OutputFile(std::string final_path, bool resumable)
     if (lock_fd_ >= 0) break;
     if (errno == EEXIST && k < 100) continue;
     const int error = errno;
+    if (error == ENOSPC || error == EDQUOT || error == EIO)
+      throw WriteFailure("cannot create '" + temp_path_ + "' (" + std::strerror(error) + ") on " +
+                         file_system_of(final_path_));
     if (error == EACCES || error == EPERM || error == EROFS)
       throw UsageError("cannot write '" + final_path_ + "': directory '" + dir.string() + "' is not writable (" +
                        std::strerror(error) + ")");
@@ -180,6 +236,21 @@ void OutputFile::adopt(const std::string& partial) {
   ::close(lock_fd_);
   lock_fd_ = fd;
   stale_.erase(std::remove(stale_.begin(), stale_.end(), partial), stale_.end());
+}
+
+void OutputFile::write_text(const std::string& bytes) {
+  const int fd = ::open(temp_path_.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  int error = fd < 0 ? errno : 0;
+  for (std::size_t done = 0; error == 0 && done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) error = errno;
+    else done += std::size_t(n);
+  }
+  if (fd >= 0 && ::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0)
+    throw WriteFailure("cannot write '" + final_path_ + "' (its temporary '" + temp_path_ + "'): " +
+                       std::strerror(error) + " on " + file_system_of(final_path_));
 }
 
 void OutputFile::commit() {

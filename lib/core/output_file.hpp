@@ -34,6 +34,9 @@ class OutputFile {
   const std::string& temp_path() const { return temp_path_; }
   const std::string& final_path() const { return final_path_; }
   void commit();  // atomic rename; RuntimeFailure on error
+  // Writes `bytes` as the whole content of the temporary (a text output); WriteFailure
+  // naming the output, its temporary, the system's reason and the file system.
+  void write_text(const std::string& bytes);
   // Leave the temporary in place at destruction (an interrupted resumable run).
   void keep_partial() { keep_ = true; }
 
@@ -55,6 +58,26 @@ class OutputFile {
 
 // "<dir>/.<name>.checkpoint" beside an output path.
 std::string checkpoint_path(const std::string& output);
+
+// The name of a hidden file beside the output named `name`: "." + name + suffix, for the
+// temporaries (suffix ".part-PID") and the checkpoint. A name too long for that within
+// NAME_MAX (255 bytes; names of over 235 bytes) is cut to its first 218 bytes (whole UTF-8
+// characters) followed by "~" and 16 hex digits of its SHA-256, so that every legal output
+// name has its temporaries and checkpoint.
+std::string hidden_name(const std::string& name, const std::string& suffix);
+
+// UsageError "'PATH': is a FIFO (named pipe), not a regular file" (or a device, socket,
+// directory) for an input that is not a regular file after symbolic links, which opening
+// could block on or misread; nothing is opened. A missing path is left to the caller.
+void require_regular_file(const std::string& path);
+
+// The one message for a file that is an unfinished run (marked so, or locked by the
+// process still writing it).
+std::string unfinished_run_message(const std::string& path);
+
+// "the file system holding 'DIR' (mounted at M, N MB free)", for messages about a write
+// that failed there.
+std::string file_system_of(const std::string& path);
 
 // The temporaries of an output that exist now (named exactly ".NAME.part-PID" or
 // ".NAME.part-PID-K", digits), in name order.

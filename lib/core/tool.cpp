@@ -69,10 +69,9 @@ void set_omp_wait_policy(int /*argc*/, char** argv, char** envp) {
                                                                                     char**) = set_omp_wait_policy;
 #endif
 
-}  // namespace
+bool skip_handlers = false;
 
-int run_tool(const char* program, const std::function<int()>& body) {
-  install_interrupt_handlers();
+int run_body(const char* program, const std::function<int()>& body) {
   try {
     return body();
   } catch (const UsageError& e) {
@@ -85,6 +84,21 @@ int run_tool(const char* program, const std::function<int()>& body) {
     std::fprintf(stderr, "%s: failure: %s\n", program, e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+void skip_exit_handlers() { skip_handlers = true; }
+bool exit_handlers_skipped() { return skip_handlers; }
+
+int run_tool(const char* program, const std::function<int()>& body) {
+  install_interrupt_handlers();
+  const int code = run_body(program, body);
+  if (skip_handlers) {
+    std::fflush(nullptr);
+    ::_exit(code);
+  }
+  return code;
 }
 
 }  // namespace granflow

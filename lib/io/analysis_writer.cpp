@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <variant>
 
 #include "io/hdf5_handle.hpp"
@@ -68,7 +69,8 @@ AnalysisWriter::~AnalysisWriter() {
   try {
     if (impl_->file) close();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "granflow: %s\n", e.what());
+    // While an exception unwinds, that one is reported.
+    if (std::uncaught_exceptions() == 0) std::fprintf(stderr, "granflow: %s\n", e.what());
   }
 }
 
@@ -125,9 +127,6 @@ void AnalysisWriter::write(const std::string& path, const std::vector<std::strin
   write_attribute(dataset.get(), "meaning", meaning);
 }
 
-void AnalysisWriter::close() {
-  hid_t id = impl_->file.release();
-  if (id >= 0 && H5Fclose(id) < 0) throw Hdf5Error("'" + impl_->path + "': close: " + hdf5_reason());
-}
+void AnalysisWriter::close() { close_file(impl_->file, impl_->path); }
 
 }  // namespace granflow::io

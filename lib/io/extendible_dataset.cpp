@@ -34,6 +34,8 @@ ExtendibleDataset ExtendibleDataset::create(hid_t loc, const std::string& name, 
                     "create dataset " + name));
   d.mem_type_ = mem_type;
   d.inner_ = inner;
+  d.row_bytes_ = std::size_t(row_bytes);
+  d.chunk_bytes_ = std::size_t(row_bytes * chunk[0]);
   return d;
 }
 
@@ -49,6 +51,13 @@ ExtendibleDataset ExtendibleDataset::open(hid_t loc, const std::string& name, hi
   d.mem_type_ = mem_type;
   d.inner_.assign(dims.begin() + 1, dims.end());
   d.rows_ = dims[0];
+  Datatype type(check(H5Dget_type(d.id()), d.id(), "get type"));
+  d.row_bytes_ = H5Tget_size(type.get());
+  for (hsize_t n : d.inner_) d.row_bytes_ *= std::size_t(n);
+  PropList dcpl(check(H5Dget_create_plist(d.id()), d.id(), "get creation list"));
+  std::vector<hsize_t> chunk(dims.size(), 1);
+  if (H5Pget_chunk(dcpl.get(), int(chunk.size()), chunk.data()) < 0) H5Eclear2(H5E_DEFAULT);
+  d.chunk_bytes_ = std::max<std::size_t>(d.row_bytes_, d.row_bytes_ * std::size_t(chunk[0]));
   return d;
 }
 
@@ -65,6 +74,7 @@ void ExtendibleDataset::append(const void* data, hsize_t rows) {
   Dataspace mem_space(
       check(H5Screate_simple(int(count.size()), count.data(), nullptr), id(), "create memory dataspace"));
   check(H5Dwrite(id(), mem_type_, mem_space.get(), file_space.get(), H5P_DEFAULT, data), id(), "append rows");
+  unflushed_ += std::size_t(rows) * row_bytes_;
 }
 
 void ExtendibleDataset::resize(hsize_t rows) {
@@ -72,6 +82,7 @@ void ExtendibleDataset::resize(hsize_t rows) {
   dims.insert(dims.end(), inner_.begin(), inner_.end());
   check(H5Dset_extent(id(), dims.data()), id(), "resize to " + std::to_string(rows) + " rows");
   rows_ = rows;
+  changed_ = true;
 }
 
 }  // namespace granflow::io

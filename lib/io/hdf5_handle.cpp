@@ -1,7 +1,15 @@
 #include "io/hdf5_handle.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <memory>
+
+#include "core/output_file.hpp"
+#include "core/tool.hpp"
 
 namespace granflow::io {
 
@@ -30,6 +38,21 @@ herr_t keep_innermost(unsigned n, const H5E_error2_t* error, void* data) {
   return 0;
 }
 
+// HDF5 describes a failed system call with its time (a line of its own), descriptor,
+// buffer and sizes: "file write failed: time = ..., errno = 28, error message = 'No space
+// left on device', ...". Kept: what failed and the system's reason.
+std::string condensed(std::string reason) {
+  const std::string message = "error message = '";
+  const std::size_t at = reason.find(message);
+  if (at != std::string::npos) {
+    const std::size_t start = at + message.size(), end = reason.find('\'', start);
+    const std::string what = reason.substr(0, std::min(reason.find(':'), reason.find(", errno")));
+    reason = what + ": " + reason.substr(start, end == std::string::npos ? std::string::npos : end - start);
+  }
+  std::replace(reason.begin(), reason.end(), '\n', ' ');
+  return reason;
+}
+
 }  // namespace
 
 std::string where(hid_t loc) {
@@ -45,7 +68,69 @@ std::string hdf5_reason() {
   std::string reason;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &reason);
   H5Eclear2(H5E_DEFAULT);
-  return reason.empty() ? "unknown HDF5 error" : reason;
+  return reason.empty() ? "unknown HDF5 error" : condensed(reason);
+}
+
+herr_t close_file_id(hid_t file) {
+  const herr_t status = H5Fclose(file);
+  if (status < 0) skip_exit_handlers();
+  return status;
+}
+
+namespace {
+
+// Cuts a file to `size` bytes; a failure only leaves zeros after HDF5's end of file.
+void cut(int fd, std::size_t size) {
+  if (::ftruncate(fd, off_t(size)) != 0) return;
+}
+
+}  // namespace
+
+void flush_file(hid_t file, const std::string& path, std::size_t raw_bytes) {
+  void* handle = nullptr;
+  const bool have_fd = H5Fget_vfd_handle(file, H5P_DEFAULT, &handle) >= 0 && handle != nullptr;
+  H5Eclear2(H5E_DEFAULT);
+  if (have_fd) {
+    const int fd = *static_cast<int*>(handle);
+    size_t max_size = 0, min_clean = 0, cached = 0;
+    int entries = 0;
+    if (H5Fget_mdc_size(file, &max_size, &min_clean, &cached, &entries) < 0) H5Eclear2(H5E_DEFAULT);
+    haddr_t eoa = 0;
+    if (H5Fget_eoa(file, &eoa) < 0) H5Eclear2(H5E_DEFAULT);
+    struct stat st {};
+    if (::fstat(fd, &st) == 0) {
+      const std::size_t size = std::size_t(st.st_size);
+      const std::size_t reserve = raw_bytes + raw_bytes / 64 + cached + (std::size_t(64) << 10);
+      const std::size_t end = std::max<std::size_t>(size, std::size_t(eoa)) + reserve;
+      static const std::vector<char> zeros(std::size_t(1) << 20, 0);
+      int error = 0;
+      for (std::size_t at = size; error == 0 && at < end;) {
+        const ssize_t n = ::pwrite(fd, zeros.data(), std::min(zeros.size(), end - at), off_t(at));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) error = errno;
+        else at += std::size_t(n);
+      }
+      if (error != 0) {
+        // What HDF5 wrote before stays; only the zeros go.
+        cut(fd, size);
+        throw Hdf5Error("'" + path + "': flush: cannot reserve " + std::to_string(reserve) + " bytes: " +
+                        std::strerror(error));
+      }
+    }
+  }
+  check(H5Fflush(file, H5F_SCOPE_LOCAL), file, "flush");
+  hsize_t written = 0;
+  if (have_fd && H5Fget_filesize(file, &written) >= 0) cut(*static_cast<int*>(handle), std::size_t(written));
+  H5Eclear2(H5E_DEFAULT);
+}
+
+void close_file(File& file, const std::string& path) {
+  if (file && close_file_id(file.release()) < 0) throw Hdf5Error("'" + path + "': close: " + hdf5_reason());
+}
+
+void abandon_file(File& file) {
+  if (file) skip_exit_handlers();
+  file.release();
 }
 
 void fail(hid_t loc, std::string_view action) {
@@ -123,9 +208,16 @@ File create_file(const std::string& path) {
 }
 
 File open_file(const std::string& path, bool writable) {
+  require_regular_file(path);
   PropList fapl = writable ? writer_access_plist(path) : file_access_plist();
-  return File(check_path(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get()), path,
-                         "cannot open as HDF5 (truncated or corrupt?)"));
+  const hid_t file = H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.get());
+  if (file < 0) {
+    const std::string reason = hdf5_reason();
+    // HDF5 locks a file it writes (flock): the writer is alive.
+    if (reason.find("unable to lock file") != std::string::npos) throw UsageError(unfinished_run_message(path));
+    throw Hdf5Error("'" + path + "': cannot open as HDF5 (truncated or corrupt?): " + reason);
+  }
+  return File(file);
 }
 
 bool exists(hid_t loc, const std::string& path) {

@@ -15,11 +15,16 @@
 
 namespace granflow::io {
 
-// A failed HDF5 call. Writers let it through as a runtime failure (exit 1);
-// the reader turns it into a UsageError, since it then means a bad input file.
-struct Hdf5Error : RuntimeFailure {
-  using RuntimeFailure::RuntimeFailure;
+// A failed HDF5 call. Writers let it through as a write failure (exit 1); the reader
+// turns it into a UsageError, since it then means a bad input file.
+struct Hdf5Error : WriteFailure {
+  using WriteFailure::WriteFailure;
 };
+
+// H5Fclose that, when it fails, makes run_tool end the process without HDF5's exit
+// handler (core/tool.hpp): a failed close leaves the file half closed, and that handler
+// would close it again and crash.
+herr_t close_file_id(hid_t file);
 
 template <herr_t (*Close)(hid_t)>
 class Handle {
@@ -51,7 +56,7 @@ class Handle {
   hid_t id_ = H5I_INVALID_HID;
 };
 
-using File = Handle<H5Fclose>;
+using File = Handle<close_file_id>;
 using Group = Handle<H5Gclose>;
 using Dataset = Handle<H5Dclose>;
 using Dataspace = Handle<H5Sclose>;
@@ -126,8 +131,22 @@ PropList creation_plist(hid_t plist_class);
 // the disk only when flushed or closed: a process killed between two flushes leaves the
 // file as of the last flush, plus data nothing indexes yet.
 File create_file(const std::string& path);
-// Opens an existing file; the caller has checked that it exists and is HDF5.
+// Opens an existing file; the caller has checked that it exists and is HDF5. A file that
+// another process holds locked (it is writing it) is refused as an unfinished run.
 File open_file(const std::string& path, bool writable);
+// Flushes a file being written so that a full file system cannot leave it half written:
+// first the file is extended by the most the flush can add (`raw_bytes`, the data its
+// chunk caches may hold, plus its cached metadata) with zeros, and on failure
+// (WriteFailure naming the file and the reason) the flush is not attempted, the file
+// stays as its last flush left it. Then HDF5 writes into space that is already there, and
+// the file is cut back to what HDF5 wrote.
+void flush_file(hid_t file, const std::string& path, std::size_t raw_bytes);
+// Closes the file; Hdf5Error naming path and the reason if HDF5 cannot finish it.
+void close_file(File& file, const std::string& path);
+// Gives the file up without writing to it again (no flush, no close): after a write
+// failure, a resumable run's partial output stays as its last flush left it, as after a
+// kill -9. The process must then end through run_tool (skip_exit_handlers).
+void abandon_file(File& file);
 
 // Whether every component of a relative or absolute path exists under loc.
 bool exists(hid_t loc, const std::string& path);

@@ -143,6 +143,10 @@ class TrajectoryWriter {
   void flush();  // writes buffered rows and flushes the file
   void close();  // flush and close; further calls fail
   void close_unfinished();
+  // After a write failure: gives the file up without writing to it again (no flush, no
+  // close), so that it stays as its last flush left it, as after a kill -9; further calls
+  // fail. The process must end through run_tool (io::abandon_file).
+  void abandon();
 
   std::size_t frame_count() const;
   const std::string& path() const;

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/output_file.hpp"
 #include "io/frame_check.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/schema.hpp"
@@ -166,6 +167,7 @@ TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinish
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) impl_->bad("no such file");
   if (std::filesystem::is_directory(path, ec)) impl_->bad("is a directory, not a trajectory file");
+  require_regular_file(path);
   silence_hdf5_errors();
 #if H5_VERSION_GE(1, 12, 0)
   htri_t is_hdf5 = H5Fis_accessible(path.c_str(), H5P_DEFAULT);
@@ -177,9 +179,7 @@ TrajectoryReader::TrajectoryReader(const std::string& path, bool accept_unfinish
   as_usage_error([&] {
     impl_->file = open_file(path, false);
     if (!accept_unfinished && has_attribute(impl_->file.get(), schema::kUnfinished))
-      impl_->bad(
-          "is an unfinished run (interrupted, or still being written): continue it with --resume of the same "
-          "command, or run that command without --resume to start over");
+      throw UsageError(unfinished_run_message(path));
     impl_->validate();
   });
 }

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <optional>
 
@@ -142,20 +143,64 @@ struct TrajectoryWriter::Impl {
     return o;
   }
 
+  // The most the datasets' chunk caches may hold (ExtendibleDataset::unflushed_bytes).
+  std::size_t unflushed_bytes() const {
+    std::size_t bytes = 0;
+    auto add = [&](const ExtendibleDataset& d) { bytes += d.unflushed_bytes(); };
+    auto add_element = [&](const Element& e) {
+      add(e.step);
+      add(e.time);
+      add(e.value);
+    };
+    for (const Element& e : content.elements) add_element(e);
+    if (content.contacts) {
+      for (const ExtendibleDataset& d : content.contacts->columns) add(d);
+      add(content.contacts->frame_offset);
+    }
+    for (const auto& [name, observable] : content.observables) add_element(observable.element);
+    return bytes;
+  }
+
+  void flush() {
+    flush_observables();
+    flush_file(id(), path, unflushed_bytes());
+    auto done = [](Element& e) {
+      e.step.flushed();
+      e.time.flushed();
+      e.value.flushed();
+    };
+    for (Element& e : content.elements) done(e);
+    if (content.contacts) {
+      for (ExtendibleDataset& d : content.contacts->columns) d.flushed();
+      content.contacts->frame_offset.flushed();
+    }
+    for (auto& [name, observable] : content.observables) done(observable.element);
+  }
+
   void close(bool finished = true) {
     if (!file) return;
     flush_observables();
     if (finished && unfinished) delete_attribute_if_exists(file.get(), schema::kUnfinished);
+    flush();
     content = Content{};
-    if (H5Fclose(file.release()) < 0) throw Hdf5Error("'" + path + "': close: " + hdf5_reason());
+    close_file(file, path);
+  }
+
+  // No further write reaches the file: its datasets are left open and the file unclosed
+  // (the process ends without closing them, see abandon_file).
+  void abandon() {
+    if (!file) return;
+    new Content(std::move(content));  // deliberately never destroyed: closing a dataset writes it
+    content = Content{};
+    abandon_file(file);
   }
 
   ~Impl() {
     try {
       close();
     } catch (const std::exception& e) {
-      // A destructor must not throw; the file is incomplete, say so.
-      std::fprintf(stderr, "granflow: closing trajectory failed: %s\n", e.what());
+      // A destructor must not throw. While an exception unwinds, that one is reported.
+      if (std::uncaught_exceptions() == 0) std::fprintf(stderr, "granflow: closing trajectory failed: %s\n", e.what());
     }
   }
 };
@@ -345,14 +390,11 @@ void TrajectoryWriter::write_array(const std::string& path, const std::vector<st
     std::visit([&, &name = name](const auto& v) { write_attribute(dataset.get(), name, v); }, value);
 }
 
-void TrajectoryWriter::flush() {
-  hid_t file = impl_->id();
-  impl_->flush_observables();
-  check(H5Fflush(file, H5F_SCOPE_LOCAL), file, "flush");
-}
+void TrajectoryWriter::flush() { impl_->flush(); }
 
 void TrajectoryWriter::close() { impl_->close(); }
 void TrajectoryWriter::close_unfinished() { impl_->close(false); }
+void TrajectoryWriter::abandon() { impl_->abandon(); }
 
 void TrajectoryWriter::mark_unfinished() {
   write_attribute(impl_->id(), schema::kUnfinished, std::int64_t(1));

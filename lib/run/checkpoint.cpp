@@ -1,6 +1,10 @@
 #include "run/checkpoint.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,22 +14,10 @@
 
 namespace granflow {
 
-namespace {
-
-// The output a checkpoint path ("<dir>/.<name>.checkpoint") belongs to; "" otherwise.
-std::string output_of_checkpoint(const std::string& path) {
-  const std::filesystem::path p(path);
-  const std::string name = p.filename().string(), suffix = ".checkpoint";
-  if (name.size() <= 1 + suffix.size() || name[0] != '.' || !name.ends_with(suffix)) return "";
-  return (p.parent_path() / name.substr(1, name.size() - 1 - suffix.size())).string();
-}
-
-}  // namespace
-
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
-                      const std::string& signature, const CheckpointExtra& extra) {
+                      const std::string& signature, const CheckpointExtra& extra, const std::string& output) {
   const std::string temp = path + ".new";
-  {
+  try {
     io::TrajectoryWriter writer(temp);
     io::Parameters info;
     info.set("step", engine.step_count());
@@ -37,7 +29,6 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     info.set("max_residual", stats.max_residual);
     info.set("wall_seconds", stats.wall_seconds);
     info.set("signature", signature);
-    const std::string output = output_of_checkpoint(path);
     const std::string partial = output.empty() ? "" : own_temporary(output);
     struct stat st {};
     if (!partial.empty() && ::stat(partial.c_str(), &st) == 0) {
@@ -51,8 +42,16 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     writer.append_frame(frame_of(engine, engine.step_count(), engine.time()));
     if (extra) extra(writer);
     writer.close();
+  } catch (...) {
+    // The checkpoint before this one stays whole.
+    ::unlink(temp.c_str());
+    throw;
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) throw RuntimeFailure("cannot write checkpoint '" + path + "'");
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temp.c_str());
+    throw WriteFailure("cannot write checkpoint '" + path + "': " + std::strerror(error));
+  }
 }
 
 Checkpoint read_checkpoint(const std::string& path) {

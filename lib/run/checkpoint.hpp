@@ -44,10 +44,12 @@ struct Checkpoint {
 // Adds a caller's own state to a checkpoint file (read back with a TrajectoryReader).
 using CheckpointExtra = std::function<void(io::TrajectoryWriter&)>;
 
-// Records this process's temporary of the checkpoint's output (own_temporary) as the
-// partial output it belongs to.
+// Writes `path` (as path + ".new", renamed when complete; on failure the ".new" file is
+// removed and the previous checkpoint left as it was). Records this process's temporary of
+// `output` (own_temporary), if given, as the partial output it belongs to.
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
-                      const std::string& signature, const CheckpointExtra& extra = {});
+                      const std::string& signature, const CheckpointExtra& extra = {},
+                      const std::string& output = "");
 // UsageError naming the file if it is not a checkpoint.
 Checkpoint read_checkpoint(const std::string& path);
 

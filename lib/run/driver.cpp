@@ -33,7 +33,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
   auto save = [&] {
     stats.wall_seconds = wall_before + std::chrono::duration<double>(Clock::now() - start).count();
     writer.flush();
-    write_checkpoint(plan.checkpoint_path, engine, stats, plan.signature, plan.checkpoint_extra);
+    write_checkpoint(plan.checkpoint_path, engine, stats, plan.signature, plan.checkpoint_extra, plan.output_path);
   };
   char status[128];
   const double unconverged_limit = plan.max_unconverged * double(plan.total_steps);

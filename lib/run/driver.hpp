@@ -18,6 +18,7 @@ struct RunPlan {
   std::int64_t observe_every = 1;   // record observables every this many steps
   double checkpoint_seconds = 600;  // wall time between checkpoints; 0: only on a signal
   std::string checkpoint_path;      // where checkpoints go
+  std::string output_path;          // the output whose partial the checkpoints belong to
   std::string signature;            // stored in checkpoints (what a resume must match)
   // Largest share of total_steps that may end unconverged (at the sweep cap): one more
   // and the run stops (RuntimeFailure), since it could no longer end within the limit.

@@ -129,6 +129,7 @@ RunPlan run_plan(const CommandLine& cli) {
   plan.observe_every = observe_every;
   plan.checkpoint_seconds = checkpoint_every;
   plan.checkpoint_path = checkpoint_path(cli.text("output"));
+  plan.output_path = cli.text("output");
   plan.signature = run_signature(cli);
   plan.quiet = cli.flag_set("quiet");
   return plan;
@@ -265,14 +266,42 @@ StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFi
   return StartedRun{std::move(engine), std::move(writer), stats};
 }
 
+namespace {
+
+// A write failure of a resumable run (a full file system, a quota, an I/O error): the
+// partial output is not written again, so it stays as its last flush left it, which the
+// last checkpoint describes (a resume cuts what was written after it). Both are kept, or
+// without a checkpoint the partial output goes too.
+[[noreturn]] void keep_state_after_write_failure(const WriteFailure& e, io::TrajectoryWriter& writer,
+                                                 OutputFile& out, const RunPlan& plan) {
+  writer.abandon();
+  std::string what = std::string(e.what()) + " on " + file_system_of(out.temp_path());
+  std::error_code ec;
+  if (std::filesystem::exists(plan.checkpoint_path, ec)) {
+    out.keep_partial();
+    throw WriteFailure(what + "; the checkpoint '" + plan.checkpoint_path + "' and its partial output '" +
+                       out.temp_path() + "' are kept: free space there, then run the same command with --resume");
+  }
+  throw WriteFailure(what + "; no checkpoint had been written yet, so nothing is kept: free space there, then run "
+                            "the same command again");
+}
+
+}  // namespace
+
 RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile& out, const RunPlan& plan,
                        RunStats stats, const Observer& observe) {
   try {
     return run_steps(engine, writer, plan, stats, observe);
   } catch (const Interrupted&) {
     out.keep_partial();
-    writer.close_unfinished();
+    try {
+      writer.close_unfinished();
+    } catch (const WriteFailure& e) {
+      keep_state_after_write_failure(e, writer, out, plan);
+    }
     throw;
+  } catch (const WriteFailure& e) {
+    keep_state_after_write_failure(e, writer, out, plan);
   } catch (...) {
     std::filesystem::remove(plan.checkpoint_path);
     throw;
@@ -280,9 +309,14 @@ RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile&
 }
 
 void finish_run(const CommandLine& cli, io::TrajectoryWriter& writer, OutputFile& out, const Engine& engine,
-                const RunStats& stats, const RunPlan& plan) {
-  write_run_summary(writer, engine, stats);
-  writer.close();
+                const RunStats& stats, const RunPlan& plan, const std::function<void(io::TrajectoryWriter&)>& last) {
+  try {
+    if (last) last(writer);
+    write_run_summary(writer, engine, stats);
+    writer.close();
+  } catch (const WriteFailure& e) {
+    keep_state_after_write_failure(e, writer, out, plan);
+  }
   out.commit();
   std::filesystem::remove(plan.checkpoint_path);
 

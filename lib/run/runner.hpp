@@ -95,14 +95,21 @@ struct StartedRun {
 StartedRun start_or_resume(const CommandLine& cli, const RunPlan& plan, OutputFile& out, const RunStart& start);
 
 // run_steps for a resumable output: on a signal the partial output and the checkpoint
-// are kept (and Interrupted is rethrown); on any other failure the checkpoint goes
-// too, and the output's destructor removes the partial file.
+// are kept (and Interrupted is rethrown). On a write failure (WriteFailure: a full file
+// system, a quota, an I/O error) the partial output is never written again and, when a
+// checkpoint exists, both are kept for a --resume once the cause is fixed (WriteFailure
+// saying so, naming the file system); without one the partial output is removed. On any
+// other failure the checkpoint goes too, and the output's destructor removes the partial
+// file.
 RunStats run_resumable(Engine& engine, io::TrajectoryWriter& writer, OutputFile& out, const RunPlan& plan,
                        RunStats stats, const Observer& observe);
 
-// Writes the /run summary, closes and commits the output, removes the checkpoint, and
-// reports on stderr (a warning for unconverged steps always, the summary unless quiet).
+// Writes the program's last datasets (`last`, optional), the /run summary, closes and
+// commits the output, removes the checkpoint, and reports on stderr (a warning for
+// unconverged steps always, the summary unless quiet). A write failure keeps the
+// checkpoint and the partial output as run_resumable does.
 void finish_run(const CommandLine& cli, io::TrajectoryWriter& writer, OutputFile& out, const Engine& engine,
-                const RunStats& stats, const RunPlan& plan);
+                const RunStats& stats, const RunPlan& plan,
+                const std::function<void(io::TrajectoryWriter&)>& last = {});
 
 }  // namespace granflow

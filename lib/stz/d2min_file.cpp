@@ -224,8 +224,7 @@ void write_d2min(const std::string& path, const D2minResult& r, const io::Parame
   attribute.reset();
   space.reset();
   reference.reset();
-  const hid_t id = file.release();
-  if (H5Fclose(id) < 0) throw io::Hdf5Error("'" + path + "': close: " + io::hdf5_reason());
+  io::close_file(file, path);
 }
 
 }  // namespace granflow::stz

@@ -218,7 +218,7 @@ bool run(const CommandLine& cli, const std::string& input, std::int64_t steps, s
     first.total_steps = stop_at;
     const RunStats stats = run_resumable(r.engine, r.writer, out, first, r.stats, observe);
     r.writer.flush();
-    write_checkpoint(plan.checkpoint_path, r.engine, stats, plan.signature);
+    write_checkpoint(plan.checkpoint_path, r.engine, stats, plan.signature, {}, plan.output_path);
     out.keep_partial();
     r.writer.close_unfinished();
     return false;
