@@ -28,11 +28,13 @@ struct ToolResult {
 
 inline std::string tool_path(const std::string& name) { return std::string(GRANFLOW_BIN_DIR) + "/" + name; }
 
-// args are passed through the shell verbatim: quote them in the call.
-inline ToolResult run_tool(const std::string& name, const std::string& args) {
+// args are passed through the shell verbatim: quote them in the call. `prefix` goes before
+// the program (environment assignments, a `timeout`).
+inline ToolResult run_tool(const std::string& name, const std::string& args, const std::string& prefix = "") {
   namespace fs = std::filesystem;
   fs::path err_file = fs::temp_directory_path() / ("granflow_stderr_" + std::to_string(::getpid()));
-  std::string cmd = tool_path(name) + " " + args + " </dev/null >/dev/null 2>" + err_file.string();
+  std::string cmd = prefix + (prefix.empty() ? "" : " ") + tool_path(name) + " " + args + " </dev/null >/dev/null 2>" +
+                    err_file.string();
   int status = std::system(cmd.c_str());
   std::ifstream in(err_file);
   std::stringstream ss;
