@@ -63,9 +63,9 @@ int main(int argc, char** argv) {
     const std::string output = cli.has("output") ? cli.text("output") : default_output(input);
 
     io::TrajectoryReader reader(input);
-    const std::string h5_name = name_from(output, input);
     refuse_output_among_inputs(output, {input});
     OutputFile out(output);
+    const std::string h5_name = name_from(output, input);
     io::XdmfSummary summary;
     const std::string text = io::xdmf_description(reader, h5_name, &summary);
     out.write_text(text);
