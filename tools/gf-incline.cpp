@@ -48,9 +48,9 @@ int main(int argc, char** argv) {
     add_contact_options(cli);
     cli.real_option("profile-bin", 0, "H", "thickness of the profile layers, in mean diameters of the mobile grains",
                     "3");
-    cli.integer_option("profile-block", 0, "N",
-                       "steps per time block of the profiles (sampled at every step); 0: automatic, min(5000, steps/20)",
-                       "0");
+    cli.integer_option(
+        "profile-block", 0, "N",
+        "steps per time block of the profiles (sampled at every step); 0: automatic, min(5000, steps/20)", "0");
     cli.real_option("from-time", 0, "T", "average the profiles from this time (units of τ) instead of detecting it");
     add_run_options(cli, "10");
     // Options that would be ignored are refused (and not recorded).

@@ -76,9 +76,9 @@ std::string checkpoint_path(const std::string& output) {
 void require_regular_file(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
-  const char* kind = S_ISFIFO(st.st_mode)   ? "a FIFO (named pipe)"
-                     : S_ISDIR(st.st_mode)  ? "a directory"
-                     : S_ISSOCK(st.st_mode) ? "a socket"
+  const char* kind = S_ISFIFO(st.st_mode)                         ? "a FIFO (named pipe)"
+                     : S_ISDIR(st.st_mode)                        ? "a directory"
+                     : S_ISSOCK(st.st_mode)                       ? "a socket"
                      : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
                                                                   : "not a file";
   throw UsageError("'" + path + "': is " + kind + ", not a regular file");
@@ -103,8 +103,8 @@ std::string file_system_of(const std::string& path) {
     mount = up;
     if (up == up.root_path()) break;
   }
-  std::string text = "the file system holding '" + directory_of(fs::path(path)).string() + "' (mounted at " +
-                     mount.string();
+  std::string text =
+      "the file system holding '" + directory_of(fs::path(path)).string() + "' (mounted at " + mount.string();
   struct statvfs vfs {};
   if (::statvfs(dir.c_str(), &vfs) == 0) {
     char free_text[64];
@@ -249,8 +249,8 @@ void OutputFile::write_text(const std::string& bytes) {
   }
   if (fd >= 0 && ::close(fd) != 0 && error == 0) error = errno;
   if (error != 0)
-    throw WriteFailure("cannot write '" + final_path_ + "' (its temporary '" + temp_path_ + "'): " +
-                       std::strerror(error) + " on " + file_system_of(final_path_));
+    throw WriteFailure("cannot write '" + final_path_ + "' (its temporary '" + temp_path_ +
+                       "'): " + std::strerror(error) + " on " + file_system_of(final_path_));
 }
 
 void OutputFile::commit() {

@@ -113,8 +113,8 @@ void flush_file(hid_t file, const std::string& path, std::size_t raw_bytes) {
       if (error != 0) {
         // What HDF5 wrote before stays; only the zeros go.
         cut(fd, size);
-        throw Hdf5Error("'" + path + "': flush: cannot reserve " + std::to_string(reserve) + " bytes: " +
-                        std::strerror(error));
+        throw Hdf5Error("'" + path + "': flush: cannot reserve " + std::to_string(reserve) +
+                        " bytes: " + std::strerror(error));
       }
     }
   }

@@ -48,8 +48,7 @@ using CheckpointExtra = std::function<void(io::TrajectoryWriter&)>;
 // removed and the previous checkpoint left as it was). Records this process's temporary of
 // `output` (own_temporary), if given, as the partial output it belongs to.
 void write_checkpoint(const std::string& path, const Engine& engine, const RunStats& stats,
-                      const std::string& signature, const CheckpointExtra& extra = {},
-                      const std::string& output = "");
+                      const std::string& signature, const CheckpointExtra& extra = {}, const std::string& output = "");
 // UsageError naming the file if it is not a checkpoint.
 Checkpoint read_checkpoint(const std::string& path);
 

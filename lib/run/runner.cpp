@@ -272,8 +272,8 @@ namespace {
 // partial output is not written again, so it stays as its last flush left it, which the
 // last checkpoint describes (a resume cuts what was written after it). Both are kept, or
 // without a checkpoint the partial output goes too.
-[[noreturn]] void keep_state_after_write_failure(const WriteFailure& e, io::TrajectoryWriter& writer,
-                                                 OutputFile& out, const RunPlan& plan) {
+[[noreturn]] void keep_state_after_write_failure(const WriteFailure& e, io::TrajectoryWriter& writer, OutputFile& out,
+                                                 const RunPlan& plan) {
   writer.abandon();
   std::string what = std::string(e.what()) + " on " + file_system_of(out.temp_path());
   std::error_code ec;
@@ -282,8 +282,9 @@ namespace {
     throw WriteFailure(what + "; the checkpoint '" + plan.checkpoint_path + "' and its partial output '" +
                        out.temp_path() + "' are kept: free space there, then run the same command with --resume");
   }
-  throw WriteFailure(what + "; no checkpoint had been written yet, so nothing is kept: free space there, then run "
-                            "the same command again");
+  throw WriteFailure(what +
+                     "; no checkpoint had been written yet, so nothing is kept: free space there, then run "
+                     "the same command again");
 }
 
 }  // namespace

@@ -54,7 +54,9 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-const std::string& shear_packing() { return packed_once("full_disk_pack", "--grains 100 --packing-fraction 0.8 --seed 3"); }
+const std::string& shear_packing() {
+  return packed_once("full_disk_pack", "--grains 100 --packing-fraction 0.8 --seed 3");
+}
 const std::string& incline_packing() {
   return packed_once("full_disk_incline", "--incline --width 10 --height 5 --seed 3");
 }
@@ -147,8 +149,8 @@ const std::string& analysis_run(const std::string& name, const std::string& opti
   if (it == made.end()) {
     auto dir = std::make_unique<ScratchDir>("full_disk_" + name);
     const std::string path = *dir / (name + ".h5");
-    EXPECT_EQ(run_tool("gf-shear", "-i " + shear_packing() + " -o " + path + " --steps 400 --frame-every 40 --quiet " +
-                                       options)
+    EXPECT_EQ(run_tool("gf-shear",
+                       "-i " + shear_packing() + " -o " + path + " --steps 400 --frame-every 40 --quiet " + options)
                   .exit_code,
               0);
     it = made.emplace(name, std::make_pair(std::move(dir), path)).first;
@@ -203,8 +205,8 @@ TEST(FullDisk, GfXdmfNamesTheFileAndTheReason) {
   const std::string out = dir / "out.xdmf2";
   ASSERT_EQ(run_tool("gf-xdmf", "-i " + analysis_run("run", "") + " -o " + out + " -q").exit_code, 0);
   const FileSnapshot before = snapshot({dir.path.string()});
-  const ToolResult r =
-      run_tool("gf-xdmf", "-i " + analysis_run("run", "") + " -o " + out + " -q", full_disk(dir / ".out.xdmf2.part-", 0));
+  const ToolResult r = run_tool("gf-xdmf", "-i " + analysis_run("run", "") + " -o " + out + " -q",
+                                full_disk(dir / ".out.xdmf2.part-", 0));
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("'" + out + "'"), std::string::npos) << r.err;
@@ -218,7 +220,8 @@ struct Tmpfs {
   bool mounted = false;
   Tmpfs(const fs::path& at, const std::string& size) : dir(at) {
     fs::create_directories(dir);
-    mounted = std::system(("mount -t tmpfs -o size=" + size + " tmpfs '" + dir.string() + "' 2>/dev/null").c_str()) == 0;
+    mounted =
+        std::system(("mount -t tmpfs -o size=" + size + " tmpfs '" + dir.string() + "' 2>/dev/null").c_str()) == 0;
   }
   bool resize(const std::string& size) const {
     return std::system(("mount -o remount,size=" + size + " '" + dir.string() + "' 2>/dev/null").c_str()) == 0;
@@ -231,7 +234,8 @@ struct Tmpfs {
 TEST(FullDiskTmpfs, PackOnAFullTmpfsAndARunThatResumesOnceSpaceIsFreed) {
   ScratchDir dir("full_disk_tmpfs");
   Tmpfs small(dir.path / "fs", "2m");
-  if (!small.mounted) GTEST_SKIP() << "cannot mount a tmpfs here (needs root or CAP_SYS_ADMIN); the shim tests cover it";
+  if (!small.mounted)
+    GTEST_SKIP() << "cannot mount a tmpfs here (needs root or CAP_SYS_ADMIN); the shim tests cover it";
   {
     // Filled to 8 KiB free, as in the issue.
     std::ofstream filler(small.dir / "filler", std::ios::binary);
@@ -245,8 +249,8 @@ TEST(FullDiskTmpfs, PackOnAFullTmpfsAndARunThatResumesOnceSpaceIsFreed) {
 
   // A run on 3 MB: it fills the file system, keeps its state, and continues once it has room.
   ASSERT_TRUE(small.resize("3m"));
-  const std::string args = "-i " + shear_packing() + " -o " + (small.dir / "r.h5").string() + kRun +
-                           " --checkpoint-every 0.1";
+  const std::string args =
+      "-i " + shear_packing() + " -o " + (small.dir / "r.h5").string() + kRun + " --checkpoint-every 0.1";
   const ToolResult full = run_tool("gf-shear", args);
   ASSERT_EQ(full.exit_code, 1) << full.err;
   EXPECT_EQ(count_lines(full.err), 1) << full.err;
@@ -270,8 +274,10 @@ TEST(FileEdges, OutputNameOf255Bytes) {
 
   // gf-shear's temporary and checkpoint too: interrupted, then resumed.
   const std::string shear(255, 's');
-  const std::string args = "-i " + shear_packing() + " -o " + (dir / shear) + " --steps 20000 --frame-every 1000 --quiet";
-  const pid_t pid = start_tool("gf-shear", args, dir.path.parent_path() / ("long_name_log_" + std::to_string(::getpid())));
+  const std::string args =
+      "-i " + shear_packing() + " -o " + (dir / shear) + " --steps 20000 --frame-every 1000 --quiet";
+  const pid_t pid =
+      start_tool("gf-shear", args, dir.path.parent_path() / ("long_name_log_" + std::to_string(::getpid())));
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   ::kill(pid, SIGINT);
   const int code = wait_exit_code(pid);
