@@ -1303,8 +1303,9 @@ SECTION_OBSERVABLES = {
     "ch6_stz": ("s_over_p", "p", "xi_abs_ratio"),
 }
 NOT_STUDIED = {
-    "incline": "the incline's flow rate and profiles are not in the convergence study's grid",
-    "ch6_d2min": "D²min is not in the convergence study's grid",
+    "incline": "the incline's observables are classed against its time step by `make incline-step` "
+    "(docs/results/convergence.md), not in the classes file",
+    "ch6_d2min": "not known: D²min is not in the convergence study's grid",
 }
 NEAR_LIMIT = 0.02
 
@@ -1325,7 +1326,7 @@ def step_note(step_classes, section, path):
     if step_classes is None:
         return []
     if section in NOT_STUDIED:
-        return ["", f"**Step dependence**: not known: {NOT_STUDIED[section]}.", ""]
+        return ["", f"**Step dependence**: {NOT_STUDIED[section]}.", ""]
     header, rows = step_classes
     parts = []
     for key in SECTION_OBSERVABLES.get(section, ()):

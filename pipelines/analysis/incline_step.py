@@ -93,7 +93,8 @@ def markdown(series, classes, default_step, labels):
         lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
         for obs, label in labels:
             cells = [convergence.fmt(*series[key][h][obs]) for h in steps]
-            lines.append(f"| {label} | " + " | ".join(cells) + f" | {convergence.class_text(classes[key][obs])} |")
+            text = convergence.class_text(classes[key][obs]).replace("γ̇dt ≈", "dt/τ ≈").replace("(γ̇dt)^", "(dt)^")
+            lines.append(f"| {label} | " + " | ".join(cells) + f" | {text} |")
         lines.append("")
     return "\n".join(lines) + "\n"
 

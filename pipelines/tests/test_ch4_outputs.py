@@ -150,5 +150,6 @@ packing_fraction,restitution,friction,grains,observable,label,class,default_valu
         self.assertNotIn("z (age", text)
         net = "\n".join(self.report.step_note(classes, "ch6_network", self.path))
         self.assertIn("z (age ≥ 2): regularisation-dependent 1", net)
-        self.assertIn("not known", "\n".join(self.report.step_note(classes, "incline", self.path)))
+        self.assertIn("make incline-step", "\n".join(self.report.step_note(classes, "incline", self.path)))
+        self.assertIn("not known", "\n".join(self.report.step_note(classes, "ch6_d2min", self.path)))
         self.assertEqual(self.report.step_note(None, "ch4", self.path), [])
