@@ -125,9 +125,10 @@ $(error $(PHASE_GRID): PHASE_STEPS must hold the SIZE's step SHEAR_STRAIN_STEP (
 endif
 endif
 
-.PHONY: phase-step-force
-phase-step-force:
-$(CONV_RUNS)/ch5_dt%/ch5_correlate.h5: phase-step-force
+# Always out of date: a step study's per-step table is asked of its sub-make every time.
+.PHONY: step-study-force
+step-study-force:
+$(CONV_RUNS)/ch5_dt%/ch5_correlate.h5: step-study-force
 	+$(MAKE) --no-print-directory -f $(SELF) RUNS=$(@D) SHEAR_STRAIN_STEP=$* \
 	  SHEAR_FRAME_EVERY=$(call conv_every,$(SHEAR_FRAME_EVERY)*$(SHEAR_STRAIN_STEP),$*) \
 	  SHEAR_LONG_FRAME_EVERY=$(call conv_every,$(SHEAR_LONG_FRAME_EVERY)*$(SHEAR_STRAIN_STEP),$*) \
@@ -158,7 +159,7 @@ $(error $(INCLINE_STEP_GRID): INCLINE_STEPS must hold the SIZE's step INCLINE_TI
 endif
 endif
 
-$(CONV_RUNS)/incline_dt%/ch4_incline.h5: phase-step-force
+$(CONV_RUNS)/incline_dt%/ch4_incline.h5: step-study-force
 	+$(MAKE) --no-print-directory -f $(SELF) RUNS=$(@D) INCLINE_TIME_STEP=$* \
 	  INCLINE_FRAME_EVERY=$(call conv_every,$(INCLINE_FRAME_EVERY)*$(INCLINE_TIME_STEP),$*) \
 	  INCLINE_PROFILE_BLOCK=$(call conv_every,$(INCLINE_PROFILE_BLOCK)*$(INCLINE_TIME_STEP),$*) \
