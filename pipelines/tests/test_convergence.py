@@ -2,15 +2,14 @@
 study's make target end to end on a tiny grid (and its refusal of a grid with one step)."""
 import math
 import os
-import subprocess
 import tempfile
 import unittest
 
 import numpy as np
 
+import study_make  # a sibling module: the step studies' make runner
 from analysis import convergence
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 STEPS = np.array([2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4])
 
 
@@ -193,31 +192,14 @@ CONV_CONTACT_GAPS  := 1e-3
 """
 
 
-@unittest.skipUnless(
-    os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-shear")),
-    "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it",
-)
+@unittest.skipUnless(study_make.HAVE_PROGRAMS, study_make.SKIP_REASON)
 class ConvergenceMakeTest(unittest.TestCase):
     """make convergence-files on a 64-grain grid: two points, three steps, one more tolerance."""
 
     def make(self, d, steps, *extra):
-        # Written once: a newer grid or stamp would make every table out of date.
-        grid = os.path.join(d, "grid.mk")
-        if not os.path.exists(grid):
-            with open(grid, "w") as fh:
-                fh.write(GRID.format(steps=steps))
-        stamps = os.path.join(d, "stamps")
-        if not os.path.exists(stamps):
-            os.makedirs(stamps)
-            for prog in ("gf-pack", "gf-shear", "gf-correlate", "gf-network", "gf-kinetic", "libgranflow_statistics.so"):
-                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
-                    fh.write("0\n")
-        cmd = [
-            "make", "--no-print-directory", "-f", "Makefile.sweeps", f"BIN={os.environ['GRANFLOW_BIN']}",
-            f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
-            f"FIGURES={d}/figures", *extra, "convergence-files",
-        ]
-        return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        return study_make.run(d, GRID.format(steps=steps), ("CONVERGENCE",),
+                              ("gf-pack", "gf-shear", "gf-correlate", "gf-network", "gf-kinetic"), "convergence-files",
+                              *extra)
 
     def test_tiny_study(self):
         import h5py
@@ -259,19 +241,11 @@ class ConvergenceMakeTest(unittest.TestCase):
 
     def test_grid_with_one_step_is_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "1e-3")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            lines = [l for l in res.stderr.splitlines() if l.strip()]
-            self.assertEqual(len(lines), 1, res.stderr)
-            self.assertIn("CONV_STEPS needs at least two strain steps", lines[0])
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "1e-3"), d, "CONV_STEPS needs at least two strain steps")
 
     def test_default_step_outside_the_grid_is_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "2e-3 5e-4")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            self.assertIn("CONV_DEFAULT_STEP", res.stderr)
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "2e-3 5e-4"), d, "CONV_DEFAULT_STEP")
 
 
 if __name__ == "__main__":

@@ -1,15 +1,13 @@
 """incline_step.py: the incline's observables against its time step, `make incline-step-files`
 end to end on the test size (and its refusal of a grid with one step or without the size's)."""
 import os
-import subprocess
 import tempfile
 import unittest
 
 import numpy as np
 
+import study_make  # a sibling module: the step studies' make runner
 from analysis import incline_step
-
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 GRID = """INCLINE_STEPS       := {steps}
 INCLINE_STEP_ANGLES := 20
@@ -31,30 +29,13 @@ class BadInputTest(unittest.TestCase):
             self.assertEqual(os.listdir(d), [])
 
 
-@unittest.skipUnless(
-    os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-incline")),
-    "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it",
-)
+@unittest.skipUnless(study_make.HAVE_PROGRAMS, study_make.SKIP_REASON)
 class InclineStepMakeTest(unittest.TestCase):
     """make incline-step-files on the test size (a layer of about a hundred grains) at two steps."""
 
     def make(self, d, steps, *extra):
-        grid = os.path.join(d, "grid.mk")
-        if not os.path.exists(grid):
-            with open(grid, "w") as fh:
-                fh.write(GRID.format(steps=steps))
-        stamps = os.path.join(d, "stamps")
-        if not os.path.exists(stamps):
-            os.makedirs(stamps)
-            for prog in ("gf-pack", "gf-incline", "libgranflow_statistics.so"):
-                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
-                    fh.write("0\n")
-        cmd = [
-            "make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",
-            f"STAMPS={stamps}", f"INCLINE_STEP_GRID={grid}", f"CONV_RUNS={d}/runs",
-            "PYTHON=/usr/bin/python3", f"FIGURES={d}/figures", *extra, "incline-step-files",
-        ]
-        return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        return study_make.run(d, GRID.format(steps=steps), ("INCLINE_STEP_GRID",), ("gf-pack", "gf-incline"),
+                              "incline-step-files", "SIZE=test", *extra)
 
     def test_two_steps(self):
         import h5py
@@ -90,19 +71,11 @@ class InclineStepMakeTest(unittest.TestCase):
 
     def test_one_step_is_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "5e-3")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            lines = [l for l in res.stderr.splitlines() if l.strip()]
-            self.assertEqual(len(lines), 1, res.stderr)
-            self.assertIn("INCLINE_STEPS needs at least two time steps", lines[0])
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "5e-3"), d, "INCLINE_STEPS needs at least two time steps")
 
     def test_steps_without_the_size_step_are_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "1e-2 2.5e-3")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            self.assertIn("INCLINE_TIME_STEP", res.stderr)
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "1e-2 2.5e-3"), d, "INCLINE_TIME_STEP")
 
 
 if __name__ == "__main__":

@@ -2,15 +2,13 @@
 constructed inputs with known answers, and `make phase-step-files` end to end on the test size
 (and its refusal of a grid with one step or without the size's own step)."""
 import os
-import subprocess
 import tempfile
 import unittest
 
 import numpy as np
 
+import study_make  # a sibling module: the step studies' make runner
 from analysis import phase_step
-
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 
 def crossing(step, e, nu_bc, error, status="bracketed"):
@@ -84,31 +82,15 @@ PHASE_NU          := 0.700
 """
 
 
-@unittest.skipUnless(
-    os.path.isfile(os.path.join(os.environ.get("GRANFLOW_BIN", "-"), "gf-shear")),
-    "GRANFLOW_BIN (the built gf-* programs) not given; ctest sets it",
-)
+@unittest.skipUnless(study_make.HAVE_PROGRAMS, study_make.SKIP_REASON)
 class PhaseStepMakeTest(unittest.TestCase):
     """make phase-step-files on the test size (64 grains) at two steps."""
 
     def make(self, d, steps, *extra):
-        grid = os.path.join(d, "grid.mk")
-        if not os.path.exists(grid):
-            with open(grid, "w") as fh:
-                fh.write(GRID.format(steps=steps))
-        stamps = os.path.join(d, "stamps")
-        if not os.path.exists(stamps):
-            os.makedirs(stamps)
-            for prog in ("gf-pack", "gf-shear", "gf-correlate", "libgranflow_statistics.so"):
-                with open(os.path.join(stamps, prog + ".stamp"), "w") as fh:
-                    fh.write("0\n")
-        cmd = [
-            "make", "--no-print-directory", "-f", "Makefile.sweeps", "SIZE=test", f"BIN={os.environ['GRANFLOW_BIN']}",
-            f"STAMPS={stamps}", f"CONVERGENCE={grid}", f"PHASE_GRID={grid}", f"CONV_RUNS={d}/runs", "PYTHON=/usr/bin/python3",
-            # The reference at ν = 0.7: 64 dilute elastic grains may have no contact in any frame.
-            f"FIGURES={d}/figures", "CH5_REFERENCE_NU=0.700", *extra, "phase-step-files",
-        ]
-        return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        # The reference at ν = 0.7: 64 dilute elastic grains may have no contact in any frame.
+        return study_make.run(d, GRID.format(steps=steps), ("CONVERGENCE", "PHASE_GRID"),
+                              ("gf-pack", "gf-shear", "gf-correlate"), "phase-step-files", "SIZE=test",
+                              "CH5_REFERENCE_NU=0.700", *extra)
 
     def test_two_steps(self):
         import h5py
@@ -146,19 +128,11 @@ class PhaseStepMakeTest(unittest.TestCase):
 
     def test_one_step_is_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "1e-3")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            lines = [l for l in res.stderr.splitlines() if l.strip()]
-            self.assertEqual(len(lines), 1, res.stderr)
-            self.assertIn("PHASE_STEPS needs at least two strain steps", lines[0])
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "1e-3"), d, "PHASE_STEPS needs at least two strain steps")
 
     def test_steps_without_the_size_step_are_refused(self):
         with tempfile.TemporaryDirectory() as d:
-            res = self.make(d, "2e-3 5e-4")
-            self.assertEqual(res.returncode, 2, res.stdout + res.stderr)
-            self.assertIn("SHEAR_STRAIN_STEP", res.stderr)
-            self.assertFalse(os.path.exists(f"{d}/runs"))
+            study_make.assert_refused(self, self.make(d, "2e-3 5e-4"), d, "SHEAR_STRAIN_STEP")
 
 
 if __name__ == "__main__":
