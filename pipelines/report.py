@@ -18,7 +18,7 @@ from granflow_py import kinetic_table as kt
 from granflow_py import network_table as nt
 from granflow_py import stz_table as stz
 from granflow_py import outputs
-from granflow_py.outputs import atomic_output
+from granflow_py.outputs import write_text
 
 
 def packing_rows(paths):
@@ -1423,13 +1423,7 @@ def main():
         lines += section("ch6_d2min", ch6_d2min_section(args.ch6_d2min))
     if args.ch6_stz:
         lines += section("ch6_stz", ch6_stz_section(args.ch6_stz, args.ch4_critical))
-    out = atomic_output(args.output)
-    try:
-        with open(out.name, "w") as fh:
-            fh.write("\n".join(lines) + "\n")
-        out.commit()
-    finally:
-        out.abandon()
+    write_text(args.output, "\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

@@ -41,6 +41,8 @@ exponent, exponent_error, chi2_dof, exponent_finest (between the two finest step
 --classes-csv the classes alone, one CSV line per (point, observable), for report.py --step-classes.
 """
 import argparse
+import csv
+import io
 import math
 import os
 import shlex
@@ -578,13 +580,8 @@ def main():
             else:
                 g.create_dataset(name, data=np.array(values, dtype=np.int64 if name in ("grains", "steps") else float))
     if args.markdown:
-        out = outputs.atomic_output(args.markdown)
-        try:
-            with open(out.name, "w") as md:
-                md.write(markdown(series, classes, args.default_step, args.tolerance, observables, activation))
-            out.commit()
-        finally:
-            out.abandon()
+        outputs.write_text(args.markdown, markdown(series, classes, args.default_step, args.tolerance, observables,
+                                                   activation))
     if args.classes_csv:
         write_classes_csv(args.classes_csv, classes, observables, args.default_step, activation)
     return 0
@@ -597,23 +594,17 @@ CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "observa
 def write_classes_csv(path, classes, observables, default_step, activation):
     """One line per (point, observable) classified: the columns of CSV_COLUMNS, after a comment
     line naming the default step and the activation (read by report.py --step-classes)."""
-    import csv
-
     labels = {o[0]: o[1] for o in observables}
-    out = outputs.atomic_output(path)
-    try:
-        with open(out.name, "w", newline="") as fh:
-            fh.write(f"# convergence.py classes at the default step {default_step:g}, activation {activation}\n")
-            w = csv.writer(fh)
-            w.writerow(CSV_COLUMNS)
-            for key in sorted(classes):
-                for obs in sorted(classes[key]):
-                    c = classes[key][obs]
-                    w.writerow([f"{key[1]:.3f}", f"{key[2]:.2f}", f"{key[3]:.2f}", key[0], obs, labels.get(obs, obs),
-                                c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])])
-        out.commit()
-    finally:
-        out.abandon()
+    fh = io.StringIO()
+    fh.write(f"# convergence.py classes at the default step {default_step:g}, activation {activation}\n")
+    w = csv.writer(fh, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for key in sorted(classes):
+        for obs in sorted(classes[key]):
+            c = classes[key][obs]
+            w.writerow([f"{key[1]:.3f}", f"{key[2]:.2f}", f"{key[3]:.2f}", key[0], obs, labels.get(obs, obs),
+                        c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])])
+    outputs.write_text(path, fh.getvalue())
 
 
 if __name__ == "__main__":

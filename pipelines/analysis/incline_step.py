@@ -154,13 +154,7 @@ def main(argv=None):
         for column in CLASS_COLUMNS:
             g.create_dataset(column, data=np.asarray([c[column] for _, _, c in rows], dtype=float))
     if args.markdown:
-        out = outputs.atomic_output(args.markdown)
-        try:
-            with open(out.name, "w") as fh:
-                fh.write(markdown(series, classes, args.default_step, labels))
-            out.commit()
-        finally:
-            out.abandon()
+        outputs.write_text(args.markdown, markdown(series, classes, args.default_step, labels))
     return 0
 
 

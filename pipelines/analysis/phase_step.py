@@ -272,14 +272,7 @@ def main(argv=None):
             for column in CLASS_COLUMNS:
                 g.create_dataset(column, data=np.asarray([c[column] for c in cls], dtype=float))
     if args.markdown:
-        text = markdown(by_step, crossovers, cls, runs, args.default_step, threshold)
-        out = outputs.atomic_output(args.markdown)
-        try:
-            with open(out.name, "w") as f:
-                f.write(text)
-            out.commit()
-        finally:
-            out.abandon()
+        outputs.write_text(args.markdown, markdown(by_step, crossovers, cls, runs, args.default_step, threshold))
     if args.figure:
         figure(args.figure, by_step, crossovers, args.default_step, threshold)
     return 0

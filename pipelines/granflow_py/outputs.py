@@ -39,6 +39,17 @@ def atomic_output(path):
     return _Out
 
 
+def write_text(path, text):
+    """Write `text` to `path` atomically (nothing at `path` until it is complete)."""
+    out = atomic_output(path)
+    try:
+        with open(out.name, "w", newline="") as fh:
+            fh.write(text)
+        out.commit()
+    finally:
+        out.abandon()
+
+
 def text_dataset(group, name, values):
     """A dataset of variable-length strings, one per row."""
     return group.create_dataset(name, data=np.array(list(values), dtype=object), dtype=h5py.string_dtype())
