@@ -560,12 +560,7 @@ def main():
                 for obs, (value, error) in series[key][step].items():
                     for name, v in zip(cols, (*key, step, obs, value, error)):
                         cols[name].append(v)
-        g = f.create_group("series")
-        for name, values in cols.items():
-            if name == "observable":
-                outputs.text_dataset(g, name, values)
-            else:
-                g.create_dataset(name, data=np.array(values, dtype=float if name != "grains" else np.int64))
+        outputs.column_group(f, "series", cols, integers=("grains",))
         ccols = {}
         for key in sorted(classes):
             for obs, c in classes[key].items():
@@ -573,12 +568,7 @@ def main():
                          "observable": obs, **c}
                 for name, v in entry.items():
                     ccols.setdefault(name, []).append(v)
-        g = f.create_group("classes")
-        for name, values in ccols.items():
-            if name in ("observable", "class"):
-                outputs.text_dataset(g, name, values)
-            else:
-                g.create_dataset(name, data=np.array(values, dtype=np.int64 if name in ("grains", "steps") else float))
+        outputs.column_group(f, "classes", ccols, integers=("grains", "steps"))
     if args.markdown:
         outputs.write_text(args.markdown, markdown(series, classes, args.default_step, args.tolerance, observables,
                                                    activation))

@@ -139,20 +139,15 @@ def main(argv=None):
                 for obs, _ in labels:
                     for name, v in zip(cols, (*key, h, obs, *series[key][h][obs])):
                         cols[name].append(v)
-        g = f.create_group("series")
-        for name, values in cols.items():
-            if name == "observable":
-                outputs.text_dataset(g, name, values)
-            else:
-                g.create_dataset(name, data=np.asarray(values, dtype=float))
-        g = f.create_group("classes")
+        outputs.column_group(f, "series", cols)
         rows = [(key, obs, classes[key][obs]) for key in sorted(classes) for obs, _ in labels]
-        g.create_dataset("angle", data=[k[0] for k, _, _ in rows])
-        g.create_dataset("friction", data=[k[1] for k, _, _ in rows])
-        outputs.text_dataset(g, "observable", [o for _, o, _ in rows])
-        outputs.text_dataset(g, "class", [c["class"] for _, _, c in rows])
-        for column in CLASS_COLUMNS:
-            g.create_dataset(column, data=np.asarray([c[column] for _, _, c in rows], dtype=float))
+        outputs.column_group(f, "classes", {
+            "angle": [k[0] for k, _, _ in rows],
+            "friction": [k[1] for k, _, _ in rows],
+            "observable": [o for _, o, _ in rows],
+            "class": [c["class"] for _, _, c in rows],
+            **{column: [c[column] for _, _, c in rows] for column in CLASS_COLUMNS},
+        })
     if args.markdown:
         outputs.write_text(args.markdown, markdown(series, classes, args.default_step, labels))
     return 0

@@ -257,20 +257,9 @@ def main(argv=None):
         [(path, sha256(path)) for path in args.tables],
     ) as f:
         for name, rows in (("crossover", crossovers), ("runs_by_step", runs)):
-            g = f.create_group(name)
-            for column in rows[0] if rows else ():
-                values = [r[column] for r in rows]
-                if isinstance(values[0], str):
-                    outputs.text_dataset(g, column, values)
-                else:
-                    g.create_dataset(column, data=np.asarray(values, dtype=float))
-        g = f.create_group("classes")
-        if cls:
-            g.create_dataset("restitution", data=[c["restitution"] for c in cls])
-            g.create_dataset("friction", data=[c["friction"] for c in cls])
-            outputs.text_dataset(g, "class", [c["class"] for c in cls])
-            for column in CLASS_COLUMNS:
-                g.create_dataset(column, data=np.asarray([c[column] for c in cls], dtype=float))
+            outputs.column_group(f, name, {column: [r[column] for r in rows] for column in (rows[0] if rows else ())})
+        columns = ("restitution", "friction", "class") + CLASS_COLUMNS
+        outputs.column_group(f, "classes", {column: [c[column] for c in cls] for column in columns} if cls else {})
     if args.markdown:
         outputs.write_text(args.markdown, markdown(by_step, crossovers, cls, runs, args.default_step, threshold))
     if args.figure:

@@ -50,6 +50,19 @@ def write_text(path, text):
         out.abandon()
 
 
+def column_group(parent, name, columns, integers=()):
+    """Group `name` of `parent` with one dataset per column of `columns` ({column: values}): a
+    column of strings as text, the columns named in `integers` as int64, the others as float."""
+    group = parent.create_group(name)
+    for column, values in columns.items():
+        values = list(values)
+        if values and isinstance(values[0], str):
+            text_dataset(group, column, values)
+        else:
+            group.create_dataset(column, data=np.asarray(values, dtype=np.int64 if column in integers else float))
+    return group
+
+
 def text_dataset(group, name, values):
     """A dataset of variable-length strings, one per row."""
     return group.create_dataset(name, data=np.array(list(values), dtype=object), dtype=h5py.string_dtype())
