@@ -11,7 +11,8 @@
 # steady_<stem> (steady_state.py: p, s/p, T, p^s, p^k), correlate_<stem> (gf-correlate, ξ_el from
 # the reference point's run at the same N and step), network_<stem> (gf-network with that table),
 # kinetic_<stem> (gf-kinetic: C_v, collisions) and network_gap<H>_<stem> (gf-network over
-# geometric contacts within H mean diameters, each H of CONV_CONTACT_GAPS). The summary,
+# geometric contacts within H mean diameters, each H of CONV_CONTACT_GAPS) and d2min_<stem>
+# (gf-stz d2min maps from each strain of CONV_D2MIN_STRAINS, d2min_statistics.py). The summary,
 # convergence.h5 and convergence.md (pipelines/analysis/convergence.py): per state point and
 # observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
@@ -50,7 +51,7 @@ CONV_SIM := $(call conv_grid,$(CONV_GRAINS),$(CONV_POINTS) $(CONV_REFERENCE),$(C
             $(call conv_grid,$(CONV_GRAINS),$(if $(CONV_OTHER_TOLERANCES),$(CONV_TOLERANCE_POINT)),$(CONV_TOLERANCE_STEP),$(CONV_OTHER_TOLERANCES))
 CONV_SIM := $(sort $(CONV_SIM))
 CONV_STEMS := $(patsubst $(CONV_RUNS)/conv_n%.h5,%,$(CONV_SIM))
-CONV_TABLES := $(foreach k,steady correlate network kinetic $(CONV_CONTACT_GAPS:%=network_gap%),\
+CONV_TABLES := $(foreach k,steady correlate network kinetic d2min $(CONV_CONTACT_GAPS:%=network_gap%),\
                  $(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
 CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md $(CONV_RUNS)/convergence_classes.csv
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
@@ -94,6 +95,23 @@ $(CONV_RUNS)/network_gap%.h5: $(CONV_RUNS)/conv_n$$(call conv_gap_run,$$*).h5 \
 	  --contact-gap $(call conv_arg,,1,$*) --correlation $(CONV_RUNS)/correlate_n$(call conv_gap_run,$*).h5 $<
 $(CONV_RUNS)/kinetic_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-kinetic.stamp $(CONV_ANALYSIS)
 	$(LAUNCH) $(BIN)/gf-kinetic --quiet -o $@ --from-strain $(CONV_FROM_STRAIN) --detect-transient $<
+# D²min (Fig. 6.9's numbers): from each strain s of CONV_D2MIN_STRAINS, gf-stz d2min over one frame
+# interval (CONV_FRAME_STRAIN) from s and over the one two frames later, neighbours within
+# CONV_D2MIN_CUTOFF mean diameters (the maps in $@.maps, removed once read); d2min_statistics.py: the
+# black fraction, median, clusters and J of the two maps, with errors over the starts.
+$(CONV_RUNS)/d2min_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-stz.stamp pipelines/analysis/d2min_statistics.py \
+                          pipelines/analysis/d2min_maps.py $(CONV_ANALYSIS)
+	rm -rf $@.maps && mkdir $@.maps
+	set -e; maps=; for s in $(CONV_D2MIN_STRAINS); do \
+	  k=$$(awk "BEGIN { print int($$s / $(CONV_FRAME_STRAIN) + 0.5) }"); \
+	  for a in $$k $$((k + 2)); do \
+	    $(LAUNCH) $(BIN)/gf-stz d2min --quiet --cutoff $(CONV_D2MIN_CUTOFF) -i $< --frames $$a,$$((a + 1)) \
+	      -o $@.maps/$$a.h5; \
+	    maps="$$maps $@.maps/$$a.h5"; \
+	  done; \
+	done; \
+	$(PYTHON) pipelines/analysis/d2min_statistics.py -o $@ $$maps
+	rm -rf $@.maps
 
 $(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS_STAMP) $(CONV_ANALYSIS) | $(CONV_RUNS)/
 	$(PYTHON) pipelines/analysis/convergence.py --default-step $(CONV_DEFAULT_STEP) \

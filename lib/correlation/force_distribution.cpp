@@ -140,22 +140,40 @@ PeakDecision decide_peak(const BlockSamples& blocks, double bandwidth, double ma
   for (const auto& c : counts)
     for (int k = 0; k < cells; ++k) pooled[k] += c[k];
   decision.peak = rises(pooled) ? 1 : 0;
-  int best = 0;
-  double best_value = -1;
-  for (int m = 0; m < cells; ++m)
-    if (const double p = kde.at(pooled, m); p > best_value) {
-      best_value = p;
-      best = m;
-    }
-  decision.mode = best * delta;
-  decision.ratio = best_value > 0 ? kde.at(pooled, 0) / best_value : PeakDecision::kNaN;
+  auto mode_cell = [&](const std::vector<double>& c) {
+    int best = 0;
+    double best_value = -1;
+    for (int m = 0; m < cells; ++m)
+      if (const double p = kde.at(c, m); p > best_value) {
+        best_value = p;
+        best = m;
+      }
+    return best;
+  };
+  const int mode = mode_cell(pooled);
+  const double mode_value = kde.at(pooled, mode);
+  decision.mode = mode * delta;
+  decision.ratio = mode_value > 0 ? kde.at(pooled, 0) / mode_value : PeakDecision::kNaN;
   // The bootstrap over blocks: pooled histograms of blocks drawn with replacement.
-  decision.confidence = bootstrap_agreement(blocks.size(), replicates, seed, [&](std::span<const std::size_t> draws) {
+  auto pool = [&](std::span<const std::size_t> draws) {
     std::fill(pooled.begin(), pooled.end(), 0.0);
     for (std::size_t b : draws)
       for (int k = 0; k < cells; ++k) pooled[k] += counts[b][k];
+  };
+  decision.confidence = bootstrap_agreement(blocks.size(), replicates, seed, [&](std::span<const std::size_t> draws) {
+    pool(draws);
     return (rises(pooled) ? 1 : 0) == decision.peak;
   });
+  if (blocks.size() < 2 || replicates < 2) return decision;
+  double mode_sum = 0, mode_sum2 = 0;
+  block_bootstrap(blocks.size(), replicates, seed, [&](std::span<const std::size_t> draws) {
+    pool(draws);
+    const double f = mode_cell(pooled) * delta;
+    mode_sum += f;
+    mode_sum2 += f * f;
+  });
+  const double mean_mode = mode_sum / replicates;
+  decision.mode_error = std::sqrt(std::max(0.0, (mode_sum2 - replicates * mean_mode * mean_mode) / (replicates - 1)));
   return decision;
 }
 

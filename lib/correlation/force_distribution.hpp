@@ -19,7 +19,8 @@
 // bootstrap replicates (blocks drawn with replacement) that reach the same decision;
 // ~0.5 means undecided. Replicates keep the full sample's ⟨F⟩: the decision depends on
 // the shape at resolution h, not on the force scale. The mode (location of the largest
-// P̂) and P̂(0)/P̂(mode) are reported beside it.
+// P̂), its error (the spread of the replicates' modes, on the grid of h/10) and P̂(0)/P̂(mode)
+// are reported beside it.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -52,6 +53,7 @@ struct PeakDecision {
   int peak = -1;             // 1: P̂ rises from f = 0 (a peak at f > 0); 0: it falls; −1: no data
   double confidence = kNaN;  // fraction of bootstrap replicates agreeing (NaN: < 2 blocks)
   double mode = kNaN;        // f of the largest P̂
+  double mode_error = kNaN;  // standard deviation of the mode over the bootstrap replicates (NaN: < 2 blocks)
   double ratio = kNaN;       // P̂(0)/P̂(mode) (1 when the maximum is at 0)
 };
 

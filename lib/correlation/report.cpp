@@ -342,6 +342,9 @@ void write_report(const std::string& path, const Report& report, const io::Param
   force_column(
       "mode", [&](std::size_t i) { return res[i].peak.mode; }, "f at the maximum of the kernel density estimate", "1");
   force_column(
+      "mode_error", [&](std::size_t i) { return res[i].peak.mode_error; },
+      "standard deviation of the mode over the bootstrap replicates of the peak decision (NaN with one block)", "1");
+  force_column(
       "p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
       "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
 

@@ -21,7 +21,7 @@
 //     map [R][M][M] (row = y lag), map_x, map_y [M]
 //   /forces/            f, f_bc [F]; P, P_error, P_bc, P_bc_error [R][F];
 //     mean_force, mean_force_error, mean_binary_force, mean_binary_force_error [R];
-//     peak, peak_confidence, mode, p0_over_pmax [R]
+//     peak, peak_confidence, mode, mode_error, p0_over_pmax [R]
 //   /reference/         (with --reference) input, packing_fraction, restitution, friction,
 //                       xi, xi_error, xi_length, xi_length_error, xi_abs, xi_abs_error,
 //                       one row per reference run

@@ -8,7 +8,7 @@ the estimator does: per-step stresses are impulses over dt, their spread grows a
 and a mean of ratios is biased by it where the ratio of means (s_over_p) is not.
 
 Inputs are per-run analysis tables of the convergence study (pipelines/convergence.mk): those of
-steady_state.py, gf-correlate, gf-network and gf-kinetic, told apart by their /parameters
+steady_state.py, gf-correlate, gf-network, gf-kinetic and d2min_statistics.py, told apart by their /parameters
 `program`. Each row is matched to its run by /runs/input; the run's own /parameters give N, ν, e,
 μ, the tolerance and h = |γ̇|·dt. Rows of one (N, ν, e, μ, tolerance) form a series in h.
 
@@ -75,7 +75,7 @@ OBSERVABLES = (
      "correlation/a0_direction_error", 0),
     ("theta0_direction", "θ0, eq. 5.2 per direction", "gf-correlate", "correlation/theta0_direction",
      "correlation/theta0_direction_error", 0),
-    ("pf_mode", "P(f)'s mode", "gf-correlate", "forces/mode", None, 0),
+    ("pf_mode", "P(f)'s mode", "gf-correlate", "forces/mode", "forces/mode_error", 0),
     ("pf_zero", "P(0)/P_max", "gf-correlate", "forces/p0_over_pmax", None, 0),
     ("z", "z (age ≥ 2)", "gf-network", "runs/coordination", "runs/coordination_error", 0),
     ("Phi", "Φ", "gf-network", "runs/Phi", "runs/Phi_error", 0),
@@ -87,6 +87,11 @@ OBSERVABLES = (
     ("rhs_627", "eq. 6.27's rhs", "gf-network", "prediction/rhs_pressure", "prediction/rhs_pressure_error", 0),
     ("C_v", "C_v (eq. 6.11)", "gf-kinetic", "runs/velocity_correlation", "runs/velocity_correlation_error", 0),
     ("omega", "collisions/(grain γ̇)", "gf-kinetic", "runs/collision_frequency", "runs/collision_frequency_error", 1),
+    ("d2min_black", "D²min: black fraction", "d2min_statistics.py", "runs/black_fraction", "runs/black_fraction_error", 0),
+    ("d2min_median", "D²min: median/⟨d⟩²", "d2min_statistics.py", "runs/d2min_median", "runs/d2min_median_error", 0),
+    ("d2min_largest", "D²min: largest cluster", "d2min_statistics.py", "runs/largest_cluster",
+     "runs/largest_cluster_error", 0),
+    ("d2min_jaccard", "D²min: J(a, b)", "d2min_statistics.py", "runs/jaccard", "runs/jaccard_error", 0),
 )
 # From the run's own rows over the steady table's window (steady_from): the mean of the per-row
 # ratio s/p, an estimator every table avoids (a ratio of means is what they report), kept to

@@ -36,3 +36,7 @@ CONV_FRAME_STRAIN  := 4e-2
 # z, Φ, Ψ and the fabric also over geometric contacts (gf-network --contact-gap), these gaps in
 # mean diameters.
 CONV_CONTACT_GAPS  := 1e-4 1e-3 1e-2
+# D²min (Fig. 6.9): maps over one frame interval from each of these strains and from two frames
+# later, neighbours within CONV_D2MIN_CUTOFF mean diameters (the quick size's CH6_STZ_CUTOFF).
+CONV_D2MIN_STRAINS := 2 4 6 8 10 12 14 16 18
+CONV_D2MIN_CUTOFF  := 2

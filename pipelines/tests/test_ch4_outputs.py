@@ -124,6 +124,7 @@ packing_fraction,restitution,friction,grains,observable,label,class,default_valu
 0.760,0.50,0.00,1000,p,p/(mγ̇²),unsettled,50,5,nan,nan,nan,nan
 0.800,0.50,0.00,1000,s_over_p,s/p,converged,0.3,0.001,nan,nan,nan,nan
 0.800,0.50,0.00,1000,z,z (age ≥ 2),regularisation-dependent,0.6,0.01,nan,nan,0.8,0.1
+0.800,0.00,0.00,1000,d2min_black,D²min: black fraction,converged,0.03,0.003,nan,nan,nan,nan
 """
 
     def setUp(self):
@@ -151,5 +152,5 @@ packing_fraction,restitution,friction,grains,observable,label,class,default_valu
         net = "\n".join(self.report.step_note(classes, "ch6_network", self.path))
         self.assertIn("z (age ≥ 2): regularisation-dependent 1", net)
         self.assertIn("make incline-step", "\n".join(self.report.step_note(classes, "incline", self.path)))
-        self.assertIn("not known", "\n".join(self.report.step_note(classes, "ch6_d2min", self.path)))
+        self.assertIn("D²min: black fraction: converged 1", "\n".join(self.report.step_note(classes, "ch6_d2min", self.path)))
         self.assertEqual(self.report.step_note(None, "ch4", self.path), [])

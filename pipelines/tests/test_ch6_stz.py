@@ -392,6 +392,64 @@ class MapsRefusals(unittest.TestCase):
             self.assertIn("--start-strain", self.refused([a], "--start-strain", "0,0.1"))
 
 
+class MapStatisticsKnownAnswers(unittest.TestCase):
+    """d2min_statistics.py (the convergence study's D²min table of one run) on two constructed
+    pairs of maps: every statistic and its error over the pairs by hand, and its refusals."""
+
+    def run_statistics(self, *args):
+        return subprocess.run(
+            [sys.executable, os.path.join(PIPELINES, "analysis", "d2min_statistics.py"), *args],
+            capture_output=True, text=True,
+        )
+
+    def test_pairs(self):
+        with tempfile.TemporaryDirectory() as d:
+            # Pair 1: 8 and 5 of 15 valid grains black, 3 of a union of 10 shared; largest
+            # clusters 3 ({4, 5, 6}) and 2 ({4, 5}); medians 4e-2 and 4e-4. Pair 2: 9 and 2 black,
+            # none shared; largest clusters 3 and 1; medians 4e-2 and 4e-4.
+            paths = [os.path.join(d, f"m{k}.h5") for k in range(4)]
+            for path, black in zip(paths, (BLACK_A, [3, 4, 5, 11, 12], BLACK_A + [11], [12, 13])):
+                write_d2min(path, black)
+            out = os.path.join(d, "stats.h5")
+            res = self.run_statistics("-o", out, *paths)
+            self.assertEqual(res.returncode, 0, res.stderr)
+            with h5py.File(out, "r") as f:
+                r = {k: float(f["runs"][k][0]) for k in f["runs"] if k not in ("input", "input_sha256")}
+                self.assertEqual(f["runs/input"][0].decode(), "traj.h5")
+                self.assertEqual(f["parameters"].attrs["pairs"], 2)
+            expected = {
+                "black_fraction": (12 / 30, 1 / 30),
+                "d2min_median": ((4e-2 + 4e-4) / 2, 0.0),
+                "largest_cluster": (2.25, 0.25),
+                "jaccard": (0.15, 0.15),
+                "interval": (0.05, None),
+            }
+            for name, (value, error) in expected.items():
+                self.assertAlmostEqual(r[name], value, places=12, msg=name)
+                if error is not None:
+                    self.assertAlmostEqual(r[name + "_error"], error, places=12, msg=name)
+            # Chance: pq/(p + q − pq) per pair, averaged.
+            chance = [p * q / (p + q - p * q) for p, q in ((8 / 15, 5 / 15), (9 / 15, 2 / 15))]
+            self.assertAlmostEqual(r["jaccard_chance"], np.mean(chance), places=12)
+
+    def test_refusals(self):
+        with tempfile.TemporaryDirectory() as d:
+            paths = [os.path.join(d, f"m{k}.h5") for k in range(4)]
+            for path in paths:
+                write_d2min(path, BLACK_A)
+            with h5py.File(paths[3], "a") as f:
+                f["parameters"].attrs["input"] = "other.h5"
+            write_d2min(paths[2], BLACK_A, strain=0.1)
+            out = os.path.join(d, "stats.h5")
+            for maps, needle in ((paths[:3], "pairs"), (paths[:2] + [paths[3], paths[0]], "one run"),
+                                 (paths[:3] + [paths[0]], "intervals")):
+                res = self.run_statistics("-o", out, *maps)
+                self.assertEqual(res.returncode, 2, res.stderr)
+                self.assertEqual(len(res.stderr.strip().splitlines()), 1, res.stderr)
+                self.assertIn(needle, res.stderr)
+                self.assertFalse(os.path.exists(out))
+
+
 class FitTableAndCurve(unittest.TestCase):
     def test_curve_starts_at_tan_theta_star_and_follows_eq_6_36(self):
         with tempfile.TemporaryDirectory() as d:

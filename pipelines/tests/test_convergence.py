@@ -189,6 +189,8 @@ CONV_FROM_STRAIN   := 0.05
 CONV_OBSERVE_STRAIN := 2e-3
 CONV_FRAME_STRAIN  := 2e-3
 CONV_CONTACT_GAPS  := 1e-3
+CONV_D2MIN_STRAINS := 0.1 0.2
+CONV_D2MIN_CUTOFF  := 2
 """
 
 
@@ -198,7 +200,7 @@ class ConvergenceMakeTest(unittest.TestCase):
 
     def make(self, d, steps, *extra):
         return study_make.run(d, GRID.format(steps=steps), ("CONVERGENCE",),
-                              ("gf-pack", "gf-shear", "gf-correlate", "gf-network", "gf-kinetic"), "convergence-files",
+                              ("gf-pack", "gf-shear", "gf-correlate", "gf-network", "gf-kinetic", "gf-stz"), "convergence-files",
                               *extra)
 
     def test_tiny_study(self):
@@ -216,7 +218,8 @@ class ConvergenceMakeTest(unittest.TestCase):
                 # The extra tolerance is a series of its own at one step.
                 self.assertEqual(sorted(set(steps[tol == 1e-8])), [1e-3])
                 self.assertEqual(sorted(set(np.round(nu, 3))), [0.5, 0.7])
-                for key in ("p", "s_over_p", "s_over_p_rows", "p_cv", "z", "xi", "xi_length_ratio", "p_bc", "C_v", "z@0.001", "Phi@0.001"):
+                for key in ("p", "s_over_p", "s_over_p_rows", "p_cv", "z", "xi", "xi_length_ratio", "p_bc", "C_v", "z@0.001", "Phi@0.001",
+                            "pf_mode", "d2min_black", "d2min_jaccard"):
                     self.assertIn(key, obs)
                 classes = [c.decode() if isinstance(c, bytes) else c for c in f["classes/class"][()]]
                 self.assertTrue(set(classes) <= {"converged", "converging", "regularisation-dependent", "unsettled"})
@@ -233,6 +236,9 @@ class ConvergenceMakeTest(unittest.TestCase):
             self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-08", md)
             self.assertIn("γ̇dt = 0.001 (default)", md)
             self.assertIn("| z (age ≥ 2), gap 0.001σ |", md)
+            self.assertIn("| D²min: black fraction |", md)
+            # The D²min maps are gone once their statistics are written.
+            self.assertEqual([n for n in os.listdir(f"{d}/runs") if n.endswith(".maps")], [])
             with open(f"{d}/figures/fig4_2_step.png", "rb") as fh:
                 self.assertEqual(fh.read(8), b"\x89PNG\r\n\x1a\n")
             # Nothing left to do.
