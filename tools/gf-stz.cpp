@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (command == "--version") {
-      std::printf("gf-stz %s\n", version().c_str());
+      std::printf("gf-stz %s\n%s\n", version().c_str(), kLicenceLine);
       return 0;
     }
     if (command == "d2min") return stz_tool::d2min_command(argc - 1, argv + 1);

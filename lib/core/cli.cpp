@@ -197,7 +197,7 @@ bool CommandLine::parse(int argc, const char* const* argv) {
     return false;
   }
   if (flag_set("version")) {
-    std::printf("%s %s\n", program_.c_str(), version().c_str());
+    std::printf("%s %s\n%s\n", program_.c_str(), version().c_str(), kLicenceLine);
     return false;
   }
   if (positional_.size() < positional_min_) throw UsageError("missing " + positional_name_ + " argument (see --help)");

@@ -7,4 +7,8 @@ namespace granflow {
 // pipeline's content-hash stamps can ignore it: a new commit that does not change
 // a program's code must not make `make` re-run that program's simulations.
 std::string version();
+
+// The second line of every program's --version: the licence and how to cite.
+inline constexpr const char* kLicenceLine =
+    "Licence: BSD-3-Clause (the file LICENSE of the source). How to cite it: CITATION.cff.";
 }  // namespace granflow

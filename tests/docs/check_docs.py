@@ -9,7 +9,11 @@ Fails (exit 1, one line per problem) when
   * a page docs/programs/<name>.md exists for no program in BIN_DIR;
   * a relative link [text](path) or [text](path#anchor) in README.md, CHANGELOG.md or
     any docs/**/*.md points to a file that does not exist, or to a heading that the
-    target markdown file does not have.
+    target markdown file does not have;
+  * the version is not the same in its one place (CMakeLists.txt's project(... VERSION x.y.z)),
+    every `version:` of CITATION.cff and the first line of every program's --version, or
+    CHANGELOG.md has no section "## x.y.z" or "## Unreleased" above it (docs/releases.md);
+  * a program's --version does not name the licence of LICENSE (BSD-3-Clause).
 
 Python 3 standard library only; run by ctest as `docs.check`.
 """
@@ -186,6 +190,36 @@ def check_links(root, path):
     return problems, count
 
 
+def check_version(root, bin_dir, programs):
+    """Problems with the version's one place and its copies (docs/releases.md)."""
+    problems = []
+    with open(os.path.join(root, "CMakeLists.txt"), encoding="utf-8") as f:
+        found = re.search(r"project\(granflow\s+VERSION\s+(\d+\.\d+\.\d+)", f.read())
+    if not found:
+        return ["CMakeLists.txt: no project(granflow VERSION x.y.z)"]
+    version = found.group(1)
+    with open(os.path.join(root, "CITATION.cff"), encoding="utf-8") as f:
+        cited = re.findall(r"^\s*version:\s*\"?([^\s\"]+)", f.read(), re.M)
+    if not cited or any(v != version for v in cited):
+        problems.append(f"CITATION.cff: version {cited} is not CMakeLists.txt's {version}")
+    with open(os.path.join(root, "CHANGELOG.md"), encoding="utf-8") as f:
+        sections = re.findall(r"^## (\S+)", f.read(), re.M)
+    numbered = [s for s in sections if re.fullmatch(r"\d+\.\d+\.\d+", s)]
+    if version not in numbered and not (sections and sections[0] == "Unreleased"):
+        problems.append(f"CHANGELOG.md: no section '## {version}' (nor '## Unreleased' first)")
+    with open(os.path.join(root, "LICENSE"), encoding="utf-8") as f:
+        if not f.readline().startswith("BSD 3-Clause License"):
+            problems.append("LICENSE: not the BSD 3-Clause licence the programs name")
+    for program in programs:
+        out = subprocess.run([os.path.join(bin_dir, program), "--version"], capture_output=True, text=True).stdout
+        lines = out.splitlines()
+        if not lines or not lines[0].startswith(f"{program} {version} ("):
+            problems.append(f"{program} --version: first line {lines[:1]} is not '{program} {version} (<commit>)'")
+        if "BSD-3-Clause" not in out:
+            problems.append(f"{program} --version: does not name the licence (BSD-3-Clause)")
+    return problems
+
+
 def main():
     if len(sys.argv) != 3:
         raise SystemExit("usage: check_docs.py REPO_ROOT BIN_DIR")
@@ -219,6 +253,8 @@ def main():
         for name in sorted(os.listdir(pages_dir)):
             if name.startswith("gf-") and name.endswith(".md") and name[:-3] not in programs:
                 problems.append(f"docs/programs/{name}: no program {name[:-3]} in {bin_dir}")
+
+    problems += check_version(root, bin_dir, programs)
 
     links_checked = 0
     files = markdown_files(root)
