@@ -30,15 +30,15 @@ int main(int argc, char** argv) {
         "Averages over the frames of each gf-shear trajectory past --from-strain: the force correlation\n"
         "C(l) of eq. 5.1 (total contact force F^i of every grain with a contact; isotropic in radial\n"
         "bins and as a map of lag vectors, exact pair sums over Lees-Edwards minimum images up to\n"
-        "--max-lag), the correlation length xi of eq. 5.2, its angular dependence xi(theta) with the fit\n"
+        "--max-lag), the correlation length ξ of eq. 5.2, its angular dependence ξ(θ) with the fit\n"
         "of eq. 5.3 (a0, theta0), and the distributions P(f) of normal forces and of the binary-collision\n"
         "forces F_bc of eq. 5.4, with a robust decision whether P(f) peaks at f > 0; and xi_abs, the decay\n"
-        "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the xi of the thesis' figures), per direction\n"
+        "length of |C(l)| (eq. 5.2 on |C| with a noise floor, the ξ of the thesis' figures), per direction\n"
         "too, with a flag for correlations that reach the box. With reference runs (dilute, binary\n"
-        "collisions only) or --xi-el, also xi/xi_el per run and, across a sweep, nu_bc(e) where xi/xi_el\n"
-        "crosses --threshold (for xi and for xi_abs). Errors are jackknife (bootstrap for the peak)\n"
+        "collisions only) or --xi-el, also ξ/ξ_el per run and, across a sweep, ν_bc(e) where ξ/ξ_el\n"
+        "crosses --threshold (for ξ and for xi_abs). Errors are jackknife (bootstrap for the peak)\n"
         "over --blocks blocks of consecutive frames. Lengths in code units; defaults scale with the mean grain\n"
-        "diameter sigma of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
+        "diameter σ of the first run. Output: one HDF5 file, one row per run (docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of the output each", 1);
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.real_option("from-strain", 0, "S", "skip the transient: average frames at shear strain >= S", "0.5");
@@ -46,25 +46,25 @@ int main(int argc, char** argv) {
              "start each run later than --from-strain where its own transient ends: MSER on 100 block "
              "means of its T and p (the rule of the pipelines' steady_state.py; dilute flows heat up for "
              "many strain units); the strain used is /runs/first_strain");
-    cli.real_option("bin-width", 0, "D", "radial bin width of C(l); 0 = sigma/20", "0");
-    cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 sigma, half the shorter box side)",
+    cli.real_option("bin-width", 0, "D", "radial bin width of C(l); 0 = σ/20", "0");
+    cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 σ, half the shorter box side)",
                     "0");
     cli.flag("whole-box", 0,
              "--max-lag = half the shorter box side of all runs, the largest lag whose minimum image is unique "
              "(with --map-method fft or auto for large runs: the exact pair sums grow as N^2 there)");
     cli.text_option("map-method", 0, "pairs|fft|auto",
-                    "pair sums of C(l), xi and the map: pairs = exact over every pair within --max-lag (the "
+                    "pair sums of C(l), ξ and the map: pairs = exact over every pair within --max-lag (the "
                     "reference); fft = by FFT of the forces binned on a grid of --fft-cell (exact for grains moved to "
                     "the cell centres); auto = whichever a cost model expects faster on the largest run",
                     "pairs");
-    cli.real_option("fft-cell", 0, "G", "side of the FFT grid's cells (--map-method fft/auto); 0 = sigma/20", "0");
-    cli.integer_option("angle-bins", 0, "K", "sectors of [0, pi) for xi(theta)", "24");
+    cli.real_option("fft-cell", 0, "G", "side of the FFT grid's cells (--map-method fft/auto); 0 = σ/20", "0");
+    cli.integer_option("angle-bins", 0, "K", "sectors of [0, π) for ξ(θ)", "24");
     cli.real_option("map-bin", 0, "H",
-                    "side of the square bins of the C(l) map; 0 = sigma/5 (coarser beyond --max-lag 200 sigma: at most "
+                    "side of the square bins of the C(l) map; 0 = σ/5 (coarser beyond --max-lag 200 σ: at most "
                     "2000 bins per axis)",
                     "0");
     cli.real_option("abs-bin-width", 0, "D",
-                    "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest sigma/4",
+                    "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest σ/4",
                     "0");
     cli.real_option("abs-noise", 0, "K", "xi_abs: reduce each coarse bin of |C| by K jackknife errors (floored at 0)",
                     "2");
@@ -78,11 +78,11 @@ int main(int argc, char** argv) {
                     "0.05");
     cli.integer_option("blocks", 0, "B", "blocks of consecutive frames for the errors (fewer if fewer frames)", "20");
     cli.text_option("reference", 0, "FILES",
-                    "comma-separated dilute reference runs whose pooled xi is xi_el (without it or --xi-el, "
-                    "xi/xi_el is NaN and nu_bc is not computed); one list, the option given once; a name with a comma "
+                    "comma-separated dilute reference runs whose pooled ξ is ξ_el (without it or --xi-el, "
+                    "ξ/ξ_el is NaN and ν_bc is not computed); one list, the option given once; a name with a comma "
                     "cannot be listed (link it under another name)");
-    cli.real_option("xi-el", 0, "XI", "the elastic reference length xi_el, instead of --reference");
-    cli.real_option("threshold", 0, "C", "xi/xi_el at the binary-collision crossover nu_bc", "1.25");
+    cli.real_option("xi-el", 0, "XI", "the elastic reference length ξ_el, instead of --reference");
+    cli.real_option("threshold", 0, "C", "ξ/ξ_el at the binary-collision crossover ν_bc", "1.25");
     cli.real_option("force-bin-width", 0, "DF", "bin width of P(f) in units of the mean force", "0.05");
     cli.real_option("force-max", 0, "F", "largest f of P(f) and of the peak search", "10");
     cli.real_option("kde-bandwidth", 0, "H", "bandwidth of the kernel density estimate deciding the peak of P(f)",
@@ -161,11 +161,11 @@ int main(int argc, char** argv) {
     out.commit();
 
     if (!s.quiet && !s.xi_el && references.empty())
-      std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: xi/xi_el and nu_bc not computed\n");
+      std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: ξ/ξ_el and ν_bc not computed\n");
     if (!s.quiet)
       for (std::size_t i = 0; i < report.runs.size(); ++i)
         std::fprintf(stderr,
-                     "gf-correlate: %s: %zu frames, xi = %.4g +- %.2g (xi/xi_el = %.3g), xi_abs = %.4g +- %.2g "
+                     "gf-correlate: %s: %zu frames, ξ = %.4g +- %.2g (ξ/ξ_el = %.3g), xi_abs = %.4g +- %.2g "
                      "(xi_abs/xi_abs_el = %.3g%s), P(f) %s (%.0f%%)\n",
                      report.runs[i].path.c_str(), report.runs[i].frames.size(), report.results[i].xi,
                      report.results[i].xi_error, report.xi_ratio[i], report.results[i].magnitude.xi,

@@ -17,20 +17,20 @@ int main(int argc, char** argv) {
     CommandLine cli("gf-kinetic", "RUN.h5... -o OUT.h5 [--equilibrium EQ.h5,...] [options]",
                     "Kinetic theory against gf-shear trajectories (thesis 6.1). Per run, over a window past the\n"
                     "transient: the thesis' temperature T (translational, not mass-weighted), the static and\n"
-                    "collisional pressure and shear stress (eqs. 2.8, 6.2), the Enskog predictions p0(1+e)chi nu\n"
+                    "collisional pressure and shear stress (eqs. 2.8, 6.2), the Enskog predictions p0(1+e)χ ν\n"
                     "(eq. 6.9) and s (eq. 6.10 as printed, and the 2D Garzo-Dufty viscosity), the collision\n"
                     "frequency counted two ways (per-step observable; age-1 contacts of the stored frames), the\n"
                     "pre-collisional velocity correlation C_v (eq. 6.11, per collision, baseline -1/4) and the\n"
-                    "energy balance (dissipation rate over s*rate*Lx*Ly). chi is measured in --equilibrium runs\n"
-                    "(e = 1, rate 0) from the collision frequency, chi = omega/(n sigma sqrt(2 pi T)), beside chi\n"
-                    "from their pressure, and interpolated at each run's nu; without them, Henderson's formula.\n"
+                    "energy balance (dissipation rate over s·γ̇·Lx·Ly). χ is measured in --equilibrium runs\n"
+                    "(e = 1, rate 0) from the collision frequency, χ = ω/(nσ√(2πT)), beside χ\n"
+                    "from their pressure, and interpolated at each run's ν; without them, Henderson's formula.\n"
                     "Errors are blocked standard errors. Output: one HDF5 table, one row per run\n"
                     "(docs/file-format.md).");
     cli.positionals("RUN.h5", "gf-shear trajectories (with contacts), one row of /runs each", 1);
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.text_option("equilibrium", 0, "FILES",
-                    "comma-separated elastic (e = 1) unsheared (rate 0) gf-shear runs that measure chi(nu): the "
-                    "/equilibrium table; without it chi is Henderson's formula (chi_source 2); one list, the option "
+                    "comma-separated elastic (e = 1) unsheared (rate 0) gf-shear runs that measure χ(ν): the "
+                    "/equilibrium table; without it χ is Henderson's formula (chi_source 2); one list, the option "
                     "given once; a name with a comma cannot be listed (link it under another name)");
     cli.real_option("from-strain", 0, "S", "sheared runs: average the rows at shear strain >= S", "0.5");
     cli.real_option("from-time", 0, "T",
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
              "start each run later than --from-strain (--from-time) where its own transient ends: MSER on 100 "
              "block means of its T and p (the rule of gf-correlate and the pipelines' steady_state.py)");
     cli.flag("extrapolate", 0,
-             "allow runs outside the equilibrium table's nu range (chi extrapolated, chi_source 1); without it "
+             "allow runs outside the equilibrium table's ν range (χ extrapolated, chi_source 1); without it "
              "such a run is refused");
     if (!cli.parse(argc, argv)) return 0;
 
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> equilibrium = cli.text_list("equilibrium");
     if (cli.given("equilibrium") && equilibrium.empty()) throw UsageError("option --equilibrium: no file given");
     if (s.extrapolate && equilibrium.empty())
-      throw UsageError("option --extrapolate: needs --equilibrium (without it chi is Henderson's formula)");
+      throw UsageError("option --extrapolate: needs --equilibrium (without it χ is Henderson's formula)");
 
     refuse_output_among_inputs(cli.text("output"), cli.positional(), equilibrium);
     OutputFile out(cli.text("output"));
@@ -70,14 +70,14 @@ int main(int argc, char** argv) {
 
     if (!s.quiet) {
       if (equilibrium.empty())
-        std::fprintf(stderr, "gf-kinetic: note: no --equilibrium: chi is Henderson's formula for equal disks\n");
+        std::fprintf(stderr, "gf-kinetic: note: no --equilibrium: χ is Henderson's formula for equal disks\n");
       for (const auto& e : table.equilibrium)
         std::fprintf(
-            stderr, "gf-kinetic: %s: nu = %.4g, chi = %.4g +- %.2g, chi_virial = %.4g +- %.2g (Henderson %.4g)\n",
+            stderr, "gf-kinetic: %s: ν = %.4g, χ = %.4g +- %.2g, chi_virial = %.4g +- %.2g (Henderson %.4g)\n",
             e.input.c_str(), e.packing_fraction, e.chi, e.chi_error, e.chi_virial, e.chi_virial_error, e.chi_henderson);
       for (const auto& r : table.runs)
         std::fprintf(stderr,
-                     "gf-kinetic: %s: nu = %.4g, e = %.3g, T = %.4g, p_bc/p_enskog = %.3g, omega = %.4g +- %.2g "
+                     "gf-kinetic: %s: ν = %.4g, e = %.3g, T = %.4g, p_bc/p_enskog = %.3g, omega = %.4g +- %.2g "
                      "(frames %.4g +- %.2g), energy balance %.4g +- %.2g\n",
                      r.input.c_str(), r.packing_fraction, r.restitution, r.temperature, r.p_collisional / r.p_enskog,
                      r.collision_frequency, r.collision_frequency_error, r.collision_frequency_frames,

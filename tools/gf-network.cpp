@@ -19,21 +19,21 @@ int main(int argc, char** argv) {
                     "The force-network model (thesis 6.2) against gf-shear trajectories. Per run, over the stored\n"
                     "frames of a window past the transient: the coordination z of long-lived contacts (age >= 2),\n"
                     "the deflection x between consecutive links through a grain (its distribution P_C(x), <cos\n"
-                    "x>, <cos x cos 2x>, and Phi, Psi = twice those, eq. 6.23), the fabric and force-fabric\n"
+                    "x>, <cos x cos 2x>, and Φ, Ψ = twice those, eq. 6.23), the fabric and force-fabric\n"
                     "tensors and from them a_c, a'_c, a_f, a'_f (eqs. 6.20-6.21), the 4theta components of the\n"
-                    "angular histograms of C(theta) and F_bc(theta), and both sides of eqs. 6.27-6.29: (p^s -\n"
+                    "angular histograms of C(θ) and F_bc(θ), and both sides of eqs. 6.27-6.29: (p^s -\n"
                     "p^bc)/p^bc, (s^s - s^bc)/p^bc and (Sxx^s - Sxx^bc)/p^bc measured from the stress\n"
-                    "observables, and predicted from the contacts with the sums over links up to xi/xi_el - 1\n"
-                    "(xi/xi_el read from --correlation; the sums continued to a non-integer limit, and up to its\n"
+                    "observables, and predicted from the contacts with the sums over links up to ξ/ξ_el - 1\n"
+                    "(ξ/ξ_el read from --correlation; the sums continued to a non-integer limit, and up to its\n"
                     "floor). Errors: delta method over the frames. Output: one HDF5 table, one row per run\n"
                     "(docs/file-format.md, gf-network table).");
     cli.positionals("RUN.h5", "gf-shear trajectories with stored frames (contacts), one row of /runs each", 1);
     cli.text_option("output", 'o', "FILE", "output HDF5 file");
     cli.text_option("correlation", 0, "TABLE",
                     "gf-correlate table made with --reference on these runs (matched by each run file's sha256): "
-                    "xi/xi_el for the sums of eqs. 6.27-6.29; without it the predicted sides are NaN");
+                    "ξ/ξ_el for the sums of eqs. 6.27-6.29; without it the predicted sides are NaN");
     cli.text_option("xi", 0, "abs|signed|signed-length",
-                    "which xi/xi_el of the table: abs = xi_abs_ratio (decay length of |C|, the xi of the thesis' "
+                    "which ξ/ξ_el of the table: abs = xi_abs_ratio (decay length of |C|, the ξ of the thesis' "
                     "figures), signed = xi_ratio (eq. 5.2 on the signed C per unit area), signed-length = "
                     "xi_length_ratio (eq. 5.2 on the signed C per unit length)",
                     "abs");
@@ -46,8 +46,8 @@ int main(int argc, char** argv) {
                     "count geometric contacts instead of force-bearing ones: pairs whose gap at a frame's positions is "
                     "at most H mean diameters, long-lived when within it one step earlier too (thesis App. A.1; H >= 0; "
                     "F_bc of a contact is its pair's recorded one, 0 if it bore no force)");
-    cli.integer_option("angle-bins", 0, "K", "bins of the contact angle theta over [0, pi) (>= 4)", "36");
-    cli.integer_option("deflection-bins", 0, "D", "bins of the deflection |x| over [0, pi] (>= 4)", "36");
+    cli.integer_option("angle-bins", 0, "K", "bins of the contact angle θ over [0, π) (>= 4)", "36");
+    cli.integer_option("deflection-bins", 0, "D", "bins of the deflection |x| over [0, π] (>= 4)", "36");
     cli.integer_option("blocks", 0, "B",
                        "contiguous blocks of frames for the jackknife errors of the 4theta components (>= 2)", "10");
     if (!cli.parse(argc, argv)) return 0;
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
         auto v = [&](const char* name) { return r.runs.at(name); };
         auto q = [&](const char* name) { return r.prediction.at(name); };
         std::fprintf(stderr,
-                     "gf-network: %s: nu = %.4g, e = %.3g, z = %.4g, Phi = %.4g +- %.2g, Psi = %.4g +- %.2g, "
+                     "gf-network: %s: ν = %.4g, e = %.3g, z = %.4g, Φ = %.4g +- %.2g, Ψ = %.4g +- %.2g, "
                      "pressure lhs = %.4g +- %.2g, rhs = %.4g +- %.2g\n",
                      r.input.c_str(), v("packing_fraction"), v("restitution"), v("coordination"), v("Phi"),
                      v("Phi_error"), v("Psi"), v("Psi_error"), q("lhs_pressure"), q("lhs_pressure_error"),

@@ -31,8 +31,8 @@ int main(int argc, char** argv) {
     cli.integer_option("steps", 0, "N", "number of time steps (instead of --strain; needed at --rate 0)");
     cli.real_option("strain-step", 0, "DGAMMA",
                     "|γ̇|·dt, the strain per step (not with --dt or --rate 0). At 1e-3 the steady p, s/p and T of "
-                    "dense frictionless flows are within 1-3 % of their rigid limit (8.5 % in p at nu = 0.82, "
-                    "e = 0.92); contact counts, collision frequencies, the binary-collision stress and xi/xi_el "
+                    "dense frictionless flows are within 1-3 % of their rigid limit (8.5 % in p at ν = 0.82, "
+                    "e = 0.92); contact counts, collision frequencies, the binary-collision stress and ξ/ξ_el "
                     "depend on it (docs/results/convergence.md)",
                     "1e-3");
     cli.real_option("dt", 0, "DT", "time step (instead of --strain-step; at --rate 0 default 1e-3·σ/√T0)");

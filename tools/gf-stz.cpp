@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/cli.hpp"
 #include "core/error.hpp"
 #include "core/tool.hpp"
 #include "core/version.hpp"
@@ -21,20 +22,20 @@ void print_help() {
       "Non-affine motion and the shear-transformation-zone (STZ) law of thesis 6.3.\n"
       "\n"
       "Commands:\n"
-      "  d2min    D2min (eq. 6.32) of every grain between two frames of a gf-shear trajectory, or\n"
+      "  d2min    D²min (eq. 6.32) of every grain between two frames of a gf-shear trajectory, or\n"
       "           between a frame of it and a frame of a branch started from that frame\n"
-      "  fit      the STZ law (eq. 6.36) and mu(I) fitted to steady shear runs, per friction\n"
+      "  fit      the STZ law (eq. 6.36) and μ(I) fitted to steady shear runs, per friction\n"
       "           coefficient, and their predictions for the other runs and incline flows\n"
       "\n"
       "`gf-stz COMMAND --help` lists the options of a command.\n"
       "\n"
       "Options:\n"
       "  -h, --help\n"
-      "      print this help and exit\n"
+      "          print this help and exit\n"
       "      --version\n"
-      "      print the program version and exit\n"
-      "\n"
-      "Exit status: 0 success, 1 runtime failure, 2 bad usage or bad input.\n");
+      "          print the program version and exit\n"
+      "\n%s\n",
+      CommandLine::kExitStatusLine);
 }
 
 }  // namespace

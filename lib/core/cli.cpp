@@ -312,7 +312,7 @@ std::string CommandLine::help() const {
   if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n" << wrap(positional_help_, 6, 6) << "\n";
   o << "Options:\n";
   for (auto& s : specs_) {
-    std::string head = "  ";
+    std::string head(kHelpOptionIndent, ' ');
     head += s.short_name ? std::string("-") + s.short_name + ", " : "    ";
     head += "--" + s.name;
     std::string text = s.help;
@@ -320,9 +320,9 @@ std::string CommandLine::help() const {
       head += " <" + s.value_name + ">";
       if (!s.default_value.empty()) text += " [default: " + s.default_value + "]";
     }
-    o << head << "\n" << wrap(text, 6, 6);
+    o << head << "\n" << wrap(text, kHelpDescriptionIndent, kHelpDescriptionIndent);
   }
-  o << "\n" << wrap("Exit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input.", 0, 0);
+  o << "\n" << wrap(kExitStatusLine, 0, 0);
   return o.str();
 }
 

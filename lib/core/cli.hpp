@@ -64,6 +64,12 @@ class CommandLine {
   // Every line at most kHelpWidth code points: help texts are wrapped with a hanging
   // indent, keeping their explicit line breaks.
   static constexpr std::size_t kHelpWidth = 100;
+  // Columns of an option line ("  -o, --output <FILE>", "      --threads <N>") and of its
+  // description beneath it, set apart from the long-only options' names.
+  static constexpr std::size_t kHelpOptionIndent = 2, kHelpDescriptionIndent = 10;
+  // The last line of every program's --help.
+  static constexpr const char* kExitStatusLine =
+      "Exit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input.";
   std::string help() const;
   const std::string& program() const { return program_; }
   // The exact invocation, shell-quoted, for provenance.

@@ -51,7 +51,9 @@ void add_contact_options(CommandLine& cli) {
   cli.conflicts("region-solve-after", "no-cluster-solves");
   cli.integer_option(
       "threads", 0, "N",
-      "OpenMP threads of the solver; the trajectory is bit-identical for any N, so --resume may change it", "1");
+      "OpenMP threads of the solver; every dataset of the trajectory is the same bit for bit for any N, so "
+      "--resume may change it (the file's bytes differ by /parameters, which records N)",
+      "1");
 }
 
 Material material_option(const CommandLine& cli) {

@@ -13,7 +13,10 @@ Fails (exit 1, one line per problem) when
   * the version is not the same in its one place (CMakeLists.txt's project(... VERSION x.y.z)),
     every `version:` of CITATION.cff and the first line of every program's --version, or
     CHANGELOG.md has no section "## x.y.z" or "## Unreleased" above it (docs/releases.md);
-  * a program's --version does not name the licence of LICENSE (BSD-3-Clause).
+  * a program's --version does not name the licence of LICENSE (BSD-3-Clause);
+  * a --help text (a program's or a command's) spells a symbol in ASCII (xi, nu, mu, theta, ...)
+    where the programs write the thesis' symbols (ξ, ν, μ, θ, ...), its last line is not the one
+    exit-status line, or an option's description is not indented apart from the option.
 
 Python 3 standard library only; run by ctest as `docs.check`.
 """
@@ -61,6 +64,36 @@ def help_commands(text):
             elif not line.startswith("   "):
                 inside = False
     return names
+
+
+# Symbols spelled out where every --help writes the thesis' letter (an option's or a dataset's
+# name, "--xi" or "xi_abs", is a name, not the symbol).
+ASCII_SYMBOL = re.compile(
+    r"(?<![-\w/<|])(xi|nu|mu|theta|sigma|chi|omega|gamma|gammadot|tau|Phi|Psi|pi|kappa|zeta|D2min)(?![-\w|>])"
+)
+EXIT_STATUS = "Exit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input."
+DESCRIPTION_INDENT = 10
+
+
+def help_style(program):
+    """Problems of notation and layout in `program --help` and its commands' --help."""
+    text = help_text([program])
+    problems = []
+    name = os.path.basename(program)
+    for command, t in [(name, text)] + [(f"{name} {c}", help_text([program, c])) for c in help_commands(text)]:
+        lines = t.rstrip("\n").splitlines()
+        if not lines or lines[-1] != EXIT_STATUS:
+            problems.append(f"{command} --help: its last line is not '{EXIT_STATUS}'")
+        for k, line in enumerate(lines):
+            m = ASCII_SYMBOL.search(line)
+            if m:
+                problems.append(f"{command} --help: '{m.group(1)}' spelled out in ASCII: {line.strip()}")
+            if HELP_OPTION.match(line) and k + 1 < len(lines):
+                below = lines[k + 1]
+                if below.strip() and not HELP_OPTION.match(below) and len(below) - len(below.lstrip()) != DESCRIPTION_INDENT:
+                    problems.append(f"{command} --help: the description of '{line.strip()}' is not indented "
+                                    f"{DESCRIPTION_INDENT} columns")
+    return problems
 
 
 def help_options(program):
@@ -255,6 +288,8 @@ def main():
                 problems.append(f"docs/programs/{name}: no program {name[:-3]} in {bin_dir}")
 
     problems += check_version(root, bin_dir, programs)
+    for program in programs:
+        problems += help_style(os.path.join(bin_dir, program))
 
     links_checked = 0
     files = markdown_files(root)

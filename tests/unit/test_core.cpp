@@ -151,7 +151,10 @@ TEST(CoreCli, HelpIsWrappedToOneHundredColumns) {
   cli.flag("other-option", 0, "short");
   const std::string h = cli.help();
   EXPECT_NE(h.find("A description\nof two lines.\n"), std::string::npos);
-  EXPECT_NE(h.find("\n      then a line of its own [default: 1]\n"), std::string::npos);
+  EXPECT_NE(h.find("\n          then a line of its own [default: 1]\n"), std::string::npos);
+  // A long-only option's description is indented apart from its name.
+  EXPECT_NE(h.find("\n      --other-option\n          short\n"), std::string::npos);
+  EXPECT_NE(h.find(std::string("\n") + CommandLine::kExitStatusLine + "\n"), std::string::npos);
   int lines_of_long = 0;
   std::size_t start = 0;
   for (std::size_t end; (end = h.find('\n', start)) != std::string::npos; start = end + 1) {

@@ -54,19 +54,19 @@ long long frame_of(const std::string& text) {
 
 int d2min_command(int argc, char** argv) {
   CommandLine cli("gf-stz d2min", "-i TRAJ.h5 --frames A B [--branch BRANCH.h5] [--cutoff C] -o OUT.h5",
-                  "D2min (thesis eq. 6.32, Falk-Langer) of every grain between two stored frames: frame A of TRAJ\n"
+                  "D²min (thesis eq. 6.32, Falk-Langer) of every grain between two stored frames: frame A of TRAJ\n"
                   "(the reference) and frame B of TRAJ, or frame B of BRANCH, a gf-shear run started from frame A\n"
                   "of TRAJ (gf-shear -i TRAJ --frame A, e.g. sheared the other way). Neighbours: every grain whose\n"
                   "centre is closer than C mean diameters in frame A (Lees-Edwards minimum image). Current bonds\n"
                   "follow the unwrapped displacements over every stored frame in between, never a minimum image at\n"
                   "the later time, so wrapped offsets, strains above 1 and negative rates are all right. Per grain:\n"
-                  "D2min (the sum over the neighbours), D2min per neighbour, the fitted F, the neighbour count, and\n"
+                  "D²min (the sum over the neighbours), D²min per neighbour, the fitted F, the neighbour count, and\n"
                   "valid = 0 (NaN values) where fewer than 2 neighbours or collinear ones leave F undetermined.\n"
                   "Output: docs/file-format.md, gf-stz d2min output.");
   cli.text_option("input", 'i', "TRAJ", "gf-shear trajectory holding the reference frame A");
   cli.text_option("frames", 0, "A B",
                   "the reference frame A (of TRAJ) and the current frame B (of TRAJ, or of BRANCH), two indices or "
-                  "A,B; negative counts from the end; B before A maps backwards in time; A = B gives D2min = 0");
+                  "A,B; negative counts from the end; B before A maps backwards in time; A = B gives D²min = 0");
   cli.text_option("branch", 0, "BRANCH",
                   "gf-shear run started from frame A of TRAJ (gf-shear -i TRAJ --frame A): frame B is its frame");
   cli.real_option("cutoff", 0, "C",
@@ -115,7 +115,7 @@ int d2min_command(int argc, char** argv) {
       if (result.d2min.valid[i]) sum += result.d2min.per_neighbour[i];
     const double mean = result.valid_count ? sum / double(result.valid_count) : NAN;
     std::fprintf(stderr,
-                 "gf-stz d2min: %s frame %lld -> %s frame %lld: strain %.6g, %lld of %zu grains valid, mean D2min "
+                 "gf-stz d2min: %s frame %lld -> %s frame %lld: strain %.6g, %lld of %zu grains valid, mean D²min "
                  "per neighbour %.6g (cutoff %.4g)\n",
                  request.trajectory.c_str(), (long long)result.reference_frame,
                  (request.branch.empty() ? request.trajectory : request.branch).c_str(),

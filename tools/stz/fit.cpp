@@ -15,20 +15,20 @@ namespace granflow::stz_tool {
 
 int fit_command(int argc, char** argv) {
   CommandLine cli("gf-stz fit", "RUN.h5... -o FIT.h5 (--correlation TABLE.h5 | --min-packing-fraction NU) [options]",
-                  "The STZ law of thesis eq. 6.36, x = A[sinh(k mu) - cosh(k mu)/(z mu)], x = rate<R>/sqrt(T),\n"
-                  "mu = s/p, fitted per friction coefficient to the steady means of gf-shear runs (the window of\n"
-                  "gf-kinetic and gf-network) of restitution --fit-restitution that are dense (xi/xi_el >=\n"
-                  "--dense-ratio from a gf-correlate table, or nu >= --min-packing-fraction), with its repose\n"
-                  "angle theta* (eq. 6.35); mu(I) = mu_s + (mu_2 - mu_s)/(1 + I0/I) fitted to the same points;\n"
+                  "The STZ law of thesis eq. 6.36, x = A[sinh(κμ) − cosh(κμ)/(ζμ)], x = γ̇⟨R⟩/√T,\n"
+                  "μ = s/p, fitted per friction coefficient to the steady means of gf-shear runs (the window of\n"
+                  "gf-kinetic and gf-network) of restitution --fit-restitution that are dense (ξ/ξ_el >=\n"
+                  "--dense-ratio from a gf-correlate table, or ν >= --min-packing-fraction), with its repose\n"
+                  "angle θ* (eq. 6.35); μ(I) = μ_s + (μ_2 - μ_s)/(1 + I0/I) fitted to the same points;\n"
                   "both laws' predictions and residuals in s/p for every run and for the flowing rows of\n"
                   "incline-bulk tables (--incline). Output: one HDF5 table (docs/file-format.md, gf-stz fit table).");
   cli.positionals("RUN.h5", "steady gf-shear runs (sheared), one row of /runs each", 1);
   cli.text_option("output", 'o', "FILE", "output HDF5 file");
   cli.text_option("correlation", 0, "TABLE.h5",
                   "gf-correlate table made with --reference that holds every RUN (matched by sha256): dense = "
-                  "xi/xi_el >= --dense-ratio");
+                  "ξ/ξ_el >= --dense-ratio");
   cli.real_option("min-packing-fraction", 0, "NU", "without --correlation: dense = the run's packing fraction >= NU");
-  cli.real_option("dense-ratio", 0, "R", "with --correlation: dense = xi/xi_el >= R", "1.25");
+  cli.real_option("dense-ratio", 0, "R", "with --correlation: dense = ξ/ξ_el >= R", "1.25");
   cli.text_option("xi", 0, "abs|signed", "with --correlation: abs reads the table's xi_abs_ratio, signed its xi_ratio",
                   "abs");
   cli.real_option("fit-restitution", 0, "E", "fit the dense runs of restitution E (exactly)", "0");
@@ -43,7 +43,7 @@ int fit_command(int argc, char** argv) {
   cli.text_option("objective", 0, "least-squares|orthogonal",
                   "least-squares: minimise the weighted residuals in s/p at the measured x; orthogonal: "
                   "orthogonal distance regression, both errors (never least squares in log x: biased near "
-                  "tan theta*)",
+                  "tan θ*)",
                   "least-squares");
   cli.conflicts("min-packing-fraction", "correlation");
   cli.needs("dense-ratio", "correlation");
@@ -95,7 +95,7 @@ int fit_command(int argc, char** argv) {
     for (const stz::FitRow& f : table.fits)
       std::fprintf(stderr,
                    "gf-stz: friction %.4g: %lld points, A = %.4g +- %.2g, kappa = %.4g +- %.2g, zeta = %.4g +- %.2g, "
-                   "theta* = %.4g +- %.2g deg; rms residual STZ %.3g, mu(I) %.3g; predicted rms %.3g (%lld), "
+                   "θ* = %.4g +- %.2g deg; rms residual STZ %.3g, μ(I) %.3g; predicted rms %.3g (%lld), "
                    "incline rms %.3g (%lld)\n",
                    f.friction, static_cast<long long>(f.points), f.stz.value.A, f.stz.error.A, f.stz.value.kappa,
                    f.stz.error.kappa, f.stz.value.zeta, f.stz.error.zeta, f.stz.theta_star * 180 / M_PI,
