@@ -6,6 +6,8 @@ if(NOT TARGET Eigen3::Eigen)
   list(APPEND _granflow_missing libeigen3-dev)
 endif()
 
+# The library links HDF5::HDF5 (FindHDF5's imported target: the C library, its include
+# directory as a system one), the name the installed package's config finds it by again.
 find_package(HDF5 QUIET COMPONENTS C)
 if(NOT HDF5_FOUND)
   list(APPEND _granflow_missing libhdf5-dev)
@@ -89,8 +91,3 @@ if(_granflow_missing)
     "Install them with:  sudo apt-get install -y ${_pkgs}\n"
     "(or run 'make -f Makefile.sweeps deps', which does it for you as root).")
 endif()
-
-add_library(granflow_hdf5 INTERFACE)
-target_include_directories(granflow_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})
-target_link_libraries(granflow_hdf5 INTERFACE ${HDF5_C_LIBRARIES})
-target_compile_definitions(granflow_hdf5 INTERFACE ${HDF5_DEFINITIONS})
