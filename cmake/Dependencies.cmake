@@ -40,6 +40,12 @@ if(NOT OpenMP_CXX_FOUND)
   endif()
 endif()
 
+# help2man makes each program's man page from its --help and --version (cmake/Install.cmake).
+find_program(GRANFLOW_HELP2MAN help2man)
+if(NOT GRANFLOW_HELP2MAN)
+  list(APPEND _granflow_missing help2man)
+endif()
+
 if(GRANFLOW_TESTS)
   find_package(GTest QUIET)
   if(NOT GTest_FOUND)

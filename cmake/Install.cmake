@@ -4,7 +4,8 @@
 #   P/include/granflow/<folder>/   the headers of lib/, by folder; included as "io/trajectory.hpp"
 #   P/lib/cmake/granflow           the CMake package: granflow::granflow, granflow::statistics
 #   P/lib/pkgconfig/granflow.pc    the same library for pkg-config
-# (lib and include as GNUInstallDirs names them: CMAKE_INSTALL_LIBDIR and so on.)
+#   P/share/man/man1               a man page per program, made by help2man from its --help
+# (lib, include and share/man as GNUInstallDirs names them: CMAKE_INSTALL_LIBDIR and so on.)
 include(CMakePackageConfigHelpers)
 
 set(GRANFLOW_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/granflow)
@@ -65,5 +66,60 @@ foreach(dir LIBDIR INCLUDEDIR)
 endforeach()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/granflow.pc.in ${PROJECT_BINARY_DIR}/package/granflow.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/package/granflow.pc DESTINATION ${_pc_dir})
+
+# ---------------------------------------------------------------- man pages
+# help2man reads `<program> --help` and `--version` (pages built with `all`) through
+# cmake/man/help2man-view.sh, which lays the options out as help2man expects and adds a
+# section per command of gf-stz; the NAME line comes from _man_names, and a SEE ALSO section
+# names the other programs.
+set(_man_dir ${PROJECT_BINARY_DIR}/man/man1)
+set(_man_names
+    "gf-pack=biperiodic packings of polydisperse disks at an exact packing fraction, and incline starts"
+    "gf-shear=Lees-Edwards simple shear of rigid disks by Contact Dynamics"
+    "gf-incline=flow of rigid disks down a rough incline, and its depth profiles"
+    "gf-correlate=force correlations, correlation lengths, force distributions and contact clusters"
+    "gf-network=the force network: long-lived coordination, deflections, fabric and its relations"
+    "gf-kinetic=kinetic theory against shear runs: chi, Enskog predictions, velocity correlations"
+    "gf-stz=non-affine motion (D2min) and the STZ law fitted to shear runs"
+    "gf-xdmf=an XDMF description of a trajectory for ParaView")
+set(_man_pages "")
+foreach(program ${_granflow_programs})
+  set(_name "")
+  foreach(entry ${_man_names})
+    if(entry MATCHES "^${program}=(.*)$")
+      set(_name "${CMAKE_MATCH_1}")
+    endif()
+  endforeach()
+  if(_name STREQUAL "")
+    message(FATAL_ERROR "cmake/Install.cmake: no NAME line for ${program}'s man page in _man_names")
+  endif()
+  # SEE ALSO (a help2man include file): the other programs, and where the full reference is.
+  # Written only when it changes (file(CONFIGURE)), so that a new configure remakes no page.
+  set(_others "")
+  foreach(other ${_granflow_programs})
+    if(NOT other STREQUAL program)
+      list(APPEND _others ".BR ${other} (1)")
+    endif()
+  endforeach()
+  list(JOIN _others ",\n" _see_also)
+  string(PREPEND _see_also "[SEE ALSO]\n")
+  string(APPEND _see_also "\n.PP\nEvery option with its inputs, outputs and examples: docs/programs/${program}.md "
+                          "in granflow's source; the files: docs/file-format.md.\n")
+  string(REPLACE "-" "\\-" _see_also "${_see_also}")  # roff: a minus sign, not a hyphen
+  file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/man/${program}.h2m CONTENT "${_see_also}" @ONLY)
+  add_custom_command(
+    OUTPUT ${_man_dir}/${program}.1
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${_man_dir}
+    COMMAND ${CMAKE_COMMAND} -E env GRANFLOW_PROGRAM=$<TARGET_FILE:${program}>
+            ${GRANFLOW_HELP2MAN} --no-info --locale=C.UTF-8 --section=1 --name=${_name}
+            --include=${PROJECT_BINARY_DIR}/man/${program}.h2m --output=${_man_dir}/${program}.1
+            ${PROJECT_SOURCE_DIR}/cmake/man/help2man-view.sh
+    DEPENDS ${program} ${PROJECT_BINARY_DIR}/man/${program}.h2m ${PROJECT_SOURCE_DIR}/cmake/man/help2man-view.sh
+    COMMENT "Man page of ${program} (help2man)"
+    VERBATIM)
+  list(APPEND _man_pages ${_man_dir}/${program}.1)
+endforeach()
+add_custom_target(granflow_man_pages ALL DEPENDS ${_man_pages})
+install(FILES ${_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 
 # PYTHON PACKAGE (pipelines/granflow_py): its install rules go here (issue 46); not installed yet.
