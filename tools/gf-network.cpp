@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
                     "frames of a window past the transient: the coordination z of long-lived contacts (age >= 2),\n"
                     "the deflection x between consecutive links through a grain (its distribution P_C(x), <cos\n"
                     "x>, <cos x cos 2x>, and Φ, Ψ = twice those, eq. 6.23), the fabric and force-fabric\n"
-                    "tensors and from them a_c, a'_c, a_f, a'_f (eqs. 6.20-6.21), the 4theta components of the\n"
+                    "tensors and from them a_c, a'_c, a_f, a'_f (eqs. 6.20-6.21), the 4θ components of the\n"
                     "angular histograms of C(θ) and F_bc(θ), and both sides of eqs. 6.27-6.29: (p^s -\n"
                     "p^bc)/p^bc, (s^s - s^bc)/p^bc and (Sxx^s - Sxx^bc)/p^bc measured from the stress\n"
                     "observables, and predicted from the contacts with the sums over links up to ξ/ξ_el - 1\n"
@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     cli.integer_option("angle-bins", 0, "K", "bins of the contact angle θ over [0, π) (>= 4)", "36");
     cli.integer_option("deflection-bins", 0, "D", "bins of the deflection |x| over [0, π] (>= 4)", "36");
     cli.integer_option("blocks", 0, "B",
-                       "contiguous blocks of frames for the jackknife errors of the 4theta components (>= 2)", "10");
+                       "contiguous blocks of frames for the jackknife errors of the 4θ components (>= 2)", "10");
     if (!cli.parse(argc, argv)) return 0;
 
     network::TableSettings s;

@@ -309,7 +309,7 @@ std::vector<std::pair<std::string, std::string>> CommandLine::values() const {
 std::string CommandLine::help() const {
   std::ostringstream o;
   o << wrap("Usage: " + program_ + " " + synopsis_, 0, 7) << "\n" << wrap(description_, 0, 0) << "\n";
-  if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n" << wrap(positional_help_, 6, 6) << "\n";
+  if (positional_allowed_) o << "Arguments:\n  " << positional_name_ << "\n" << wrap(positional_help_, kHelpDescriptionIndent, kHelpDescriptionIndent) << "\n";
   o << "Options:\n";
   for (auto& s : specs_) {
     std::string head(kHelpOptionIndent, ' ');

@@ -69,7 +69,7 @@ def help_commands(text):
 # Symbols spelled out where every --help writes the thesis' letter (an option's or a dataset's
 # name, "--xi" or "xi_abs", is a name, not the symbol).
 ASCII_SYMBOL = re.compile(
-    r"(?<![-\w/<|])(xi|nu|mu|theta|sigma|chi|omega|gamma|gammadot|tau|Phi|Psi|pi|kappa|zeta|D2min)(?![-\w|>])"
+    r"(?<![-A-Za-z_/<|])(xi|nu|mu|theta|sigma|chi|omega|gamma|gammadot|tau|Phi|Psi|pi|kappa|zeta|D2min)(?![-\w|>])"
 )
 EXIT_STATUS = "Exit status: 0 success, 1 runtime failure or interruption, 2 bad usage or bad input."
 DESCRIPTION_INDENT = 10

@@ -94,9 +94,11 @@ done
 
 # ---------------------------------------------------------------- the installed programs
 cd "$tmp"
-version_line=$("$prefix/$bindir/gf-shear" --version)
+version_text=$("$prefix/$bindir/gf-shear" --version)
+version_line=${version_text%%$'\n'*}
 [[ $version_line == "gf-shear $version ("*")" ]] ||
-  fail "gf-shear --version printed '$version_line', not 'gf-shear $version (...)'"
+  fail "gf-shear --version printed '$version_line' first, not 'gf-shear $version (...)'"
+[[ $version_text == *BSD-3-Clause* ]] || fail "gf-shear --version does not name the licence: '$version_text'"
 quiet "installed gf-pack" "$prefix/$bindir/gf-pack" -o pack.h5 --grains 64 --packing-fraction 0.8 --seed 1 --quiet
 quiet "installed gf-shear" "$prefix/$bindir/gf-shear" -i pack.h5 -o shear.h5 --strain 0.1 --frame-every 10 --quiet
 # What the consumer must find: h5dump's shape of the positions ([frames][grains][2]) and last step.
