@@ -81,7 +81,7 @@ $(RUNS)/incline_branch_th%.h5: $$(call incline_parent,$$*) $(STAMPS)/gf-incline.
 $(RUNS)/ch4_incline.h5: $(INCLINE_FLOW_RUNS) $(INCLINE_ANALYSIS) | $(RUNS)/
 	$(PYTHON) pipelines/analysis/incline_bulk.py $(INCLINE_BULK_ARGS) -o $@ $(INCLINE_FLOW_RUNS)
 $(RUNS)/ch4_critical_angle.h5: $(INCLINE_CRITICAL_RUNS) pipelines/analysis/critical_angle.py $(INCLINE_ANALYSIS) \
-                               pipelines/analysis/steady_state.py pipelines/granflow_py/statistics.py $(STATISTICS_STAMP) \
+                               pipelines/analysis/steady_state.py python/granflow/statistics.py $(STATISTICS_STAMP) \
                                | $(RUNS)/
 	$(PYTHON) pipelines/analysis/critical_angle.py --window $(INCLINE_CRITICAL_WINDOW) -o $@ $(INCLINE_CRITICAL_RUNS)
 

@@ -13,12 +13,12 @@ from analysis import d2min_maps
 from analysis import incline_bulk as ib
 from analysis import jamming_point
 from analysis import steady_state as ss
-from granflow_py import correlation_table as ct
-from granflow_py import kinetic_table as kt
-from granflow_py import network_table as nt
-from granflow_py import stz_table as stz
-from granflow_py import outputs
-from granflow_py.outputs import write_text
+from granflow import correlation_table as ct
+from granflow import kinetic_table as kt
+from granflow import network_table as nt
+from granflow import stz_table as stz
+from granflow import outputs
+from granflow.outputs import write_text
 
 
 def packing_rows(paths):

@@ -51,8 +51,8 @@ import sys
 import h5py
 import numpy as np
 
-from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, read_dataset, sha256
+from granflow import outputs
+from granflow.hdf5 import read_attrs, read_dataset, sha256
 
 # (key, label, program, dataset, error dataset or None, power of γ̇ it is divided by)
 OBSERVABLES = (
@@ -354,7 +354,7 @@ def all_observables(rows):
 def row_statistics(run_path, from_strain):
     """(⟨s/p⟩ over the rows at |strain| >= from_strain with its blocking error, std(p)/⟨p⟩) of a
     gf-shear run, from its /observables pressure and shear_stress."""
-    from granflow_py import statistics
+    from granflow import statistics
 
     def series(f, name):
         g = f["observables"][name]

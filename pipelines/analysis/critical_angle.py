@@ -39,8 +39,8 @@ import h5py
 import numpy as np
 
 from analysis import steady_state as ss
-from granflow_py import outputs
-from granflow_py.hdf5 import in_tau, read_attrs, sha256, time_unit
+from granflow import outputs
+from granflow.hdf5 import in_tau, read_attrs, sha256, time_unit
 
 FLOWING_STATES = ("steady", "accelerating")
 

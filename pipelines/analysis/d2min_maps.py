@@ -48,8 +48,8 @@ import sys
 import h5py
 import numpy as np
 
-from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, sha256, text
+from granflow import outputs
+from granflow.hdf5 import read_attrs, sha256, text
 
 DEFAULT_THRESHOLD = 1e-2
 DEFAULT_GAP = 0.1

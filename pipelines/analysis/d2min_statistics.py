@@ -29,8 +29,8 @@ import h5py
 import numpy as np
 
 from analysis import d2min_maps
-from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, text
+from granflow import outputs
+from granflow.hdf5 import read_attrs, text
 
 STATISTICS = (
     ("black_fraction", "fraction of the valid grains that are black"),

@@ -42,8 +42,8 @@ import sys
 import h5py
 import numpy as np
 
-from granflow_py import outputs
-from granflow_py.hdf5 import in_tau, read_attrs, sha256
+from granflow import outputs
+from granflow.hdf5 import in_tau, read_attrs, sha256
 
 PROFILE_NAMES = (
     "y",

@@ -29,8 +29,8 @@ import numpy as np
 from analysis import convergence
 from analysis import critical_angle
 from analysis import incline_bulk
-from granflow_py import outputs
-from granflow_py.hdf5 import read_attrs, sha256
+from granflow import outputs
+from granflow.hdf5 import read_attrs, sha256
 
 # (key, label, group, dataset, error dataset or None)
 OBSERVABLES = (

@@ -42,8 +42,8 @@ import sys
 import numpy as np
 
 from analysis import steady_state
-from granflow_py import outputs
-from granflow_py.hdf5 import sha256
+from granflow import outputs
+from granflow.hdf5 import sha256
 
 QUANTITIES = ("pressure_scaled", "shear_stress_scaled")
 GRID_POINTS = 2000

@@ -27,9 +27,9 @@ import sys
 import numpy as np
 
 from analysis import convergence
-from granflow_py import correlation_table as ct
-from granflow_py import outputs
-from granflow_py.hdf5 import sha256
+from granflow import correlation_table as ct
+from granflow import outputs
+from granflow.hdf5 import sha256
 
 CLASS_COLUMNS = (
     "steps",
@@ -187,7 +187,7 @@ def markdown(by_step, crossovers, cls, runs, default_step, threshold):
 
 
 def figure(path, by_step, crossovers, default_step, threshold):
-    from granflow_py.plotting import plt, save_figure
+    from granflow.plotting import plt, save_figure
 
     steps = sorted(by_step, reverse=True)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.6))

@@ -55,9 +55,9 @@ import sys
 import h5py
 import numpy as np
 
-from granflow_py import outputs
-from granflow_py.hdf5 import sha256
-from granflow_py import statistics
+from granflow import outputs
+from granflow.hdf5 import sha256
+from granflow import statistics
 
 ERROR_METHOD = (
     "standard error of the mean by Flyvbjerg-Petersen blocking, one level above the "

@@ -6,7 +6,7 @@ is the steady mean ± its blocking error (steady_state.py) over strain >= S."""
 import argparse
 
 from analysis import steady_state as ss
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 def main():

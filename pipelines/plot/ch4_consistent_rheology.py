@@ -12,7 +12,7 @@ import numpy as np
 
 from analysis import incline_bulk as ib
 from analysis import steady_state as ss
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 INVARIANTS = (

@@ -6,7 +6,7 @@ shaded layers) and, for s/p, tan θ (what the momentum balance imposes when Σxx
 import math
 
 from analysis import incline_bulk as ib
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 def main():

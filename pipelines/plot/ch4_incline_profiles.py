@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from analysis import incline_bulk as ib
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 def main():

@@ -12,9 +12,9 @@ import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Circle
 
-from granflow_py.disks import periodic_images
-from granflow_py.hdf5 import in_tau, read_frame
-from granflow_py.plotting import plt, save_figure
+from granflow.disks import periodic_images
+from granflow.hdf5 import in_tau, read_frame
+from granflow.plotting import plt, save_figure
 
 
 def main():

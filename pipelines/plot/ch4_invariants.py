@@ -5,7 +5,7 @@ strain, with their steady means ± blocking error (steady_state.py) over strain 
 import argparse
 
 from analysis import steady_state as ss
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 PANELS = (

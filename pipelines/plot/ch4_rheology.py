@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from analysis import steady_state as ss
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 def main():

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 
 from analysis import steady_state as ss
-from granflow_py.plotting import plt, save_figure
+from granflow.plotting import plt, save_figure
 
 
 def main():

@@ -11,9 +11,9 @@ import numpy as np
 from matplotlib.collections import PatchCollection
 from matplotlib.patches import Rectangle
 
-from granflow_py import correlation_table as ct
-from granflow_py.disks import circles, periodic_images
-from granflow_py.plotting import plt, save_figure
+from granflow import correlation_table as ct
+from granflow.disks import circles, periodic_images
+from granflow.plotting import plt, save_figure
 
 
 def cluster_colours(labels):

@@ -11,8 +11,8 @@ import sys
 
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py.plotting import plt, save_figure
+from granflow import correlation_table as ct
+from granflow.plotting import plt, save_figure
 
 
 def decision(table, row):

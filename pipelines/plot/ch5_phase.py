@@ -12,8 +12,8 @@ import argparse
 
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py.plotting import plt, save_figure
+from granflow import correlation_table as ct
+from granflow.plotting import plt, save_figure
 
 
 NU_C = 0.845  # thesis' estimate of the jamming packing fraction

@@ -15,9 +15,9 @@ import sys
 
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py import kinetic_table as kt
-from granflow_py.plotting import plt, save_figure
+from granflow import correlation_table as ct
+from granflow import kinetic_table as kt
+from granflow.plotting import plt, save_figure
 
 
 def points(ax, nu, y, err, full, color, marker, label):

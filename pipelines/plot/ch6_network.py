@@ -21,8 +21,8 @@ import sys
 
 import numpy as np
 
-from granflow_py import network_table as nt
-from granflow_py.plotting import plt, save_figure
+from granflow import network_table as nt
+from granflow.plotting import plt, save_figure
 
 COMPONENTS = (("a_c", "$a_c$"), ("a_c_prime", "$a'_c$"), ("a_f", "$a_f$"), ("a_f_prime", "$a'_f$"))
 

@@ -22,9 +22,9 @@ import numpy as np
 from matplotlib.collections import PatchCollection
 
 from analysis import d2min_maps
-from granflow_py import stz_table as st
-from granflow_py.disks import circles, periodic_images
-from granflow_py.plotting import plt, save_figure
+from granflow import stz_table as st
+from granflow.disks import circles, periodic_images
+from granflow.plotting import plt, save_figure
 
 GREY, INVALID = "0.82", "white"
 

@@ -9,8 +9,8 @@ import argparse
 import h5py
 import numpy as np
 
-from granflow_py.hdf5 import read_attrs, read_group
-from granflow_py.plotting import plt, save_figure
+from granflow.hdf5 import read_attrs, read_group
+from granflow.plotting import plt, save_figure
 
 PANELS = (("p", r"$p/(m\dot\gamma^2)$", True), ("s_over_p", r"$s/p$", False), ("T", r"$T/(\dot\gamma^2\langle R\rangle^2)$", True))
 

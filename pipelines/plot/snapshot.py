@@ -6,9 +6,9 @@ import os
 
 from matplotlib.collections import PatchCollection
 
-from granflow_py.disks import circles, periodic_images
-from granflow_py.hdf5 import read_frame
-from granflow_py.plotting import plt, save_figure
+from granflow.disks import circles, periodic_images
+from granflow.hdf5 import read_frame
+from granflow.plotting import plt, save_figure
 
 
 def main():

@@ -9,7 +9,7 @@ import subprocess
 import tempfile
 import unittest
 
-from granflow_py.hdf5 import text
+from granflow.hdf5 import text
 from synthetic import scratch_make
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))

@@ -10,7 +10,7 @@ import unittest
 
 import numpy as np
 
-from granflow_py import correlation_table as ct
+from granflow import correlation_table as ct
 
 import synthetic  # a sibling module: the tests' own fixtures
 

@@ -14,7 +14,7 @@ import unittest
 import h5py
 import numpy as np
 
-from granflow_py import network_table as nt
+from granflow import network_table as nt
 
 import synthetic  # a sibling module: the tests' own fixtures
 

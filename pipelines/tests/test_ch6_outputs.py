@@ -12,8 +12,8 @@ import unittest
 
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py import kinetic_table as kt
+from granflow import correlation_table as ct
+from granflow import kinetic_table as kt
 
 import synthetic  # a sibling module: the tests' own fixtures
 

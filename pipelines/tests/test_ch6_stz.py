@@ -17,7 +17,7 @@ import numpy as np
 import synthetic  # a sibling module: the tests' own fixtures
 
 from analysis import d2min_maps
-from granflow_py import stz_table as st
+from granflow import stz_table as st
 
 PIPELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 

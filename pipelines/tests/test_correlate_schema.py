@@ -17,7 +17,7 @@ from unittest import mock
 import h5py
 
 import report
-from granflow_py import correlation_table as ct
+from granflow import correlation_table as ct
 
 import synthetic  # a sibling module: the tests' own fixtures
 

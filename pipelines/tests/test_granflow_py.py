@@ -9,9 +9,9 @@ import unittest
 import h5py
 import numpy as np
 
-from granflow_py import outputs
-from granflow_py.disks import periodic_images
-from granflow_py.hdf5 import read_attrs, read_group, sha256
+from granflow import outputs
+from granflow.disks import periodic_images
+from granflow.hdf5 import read_attrs, read_group, sha256
 
 
 def images_of(grain, result):

@@ -15,6 +15,8 @@ from analysis import jamming_point as jp
 import report
 
 PIPELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+# The package granflow's source directory (python/ beside pipelines/).
+PACKAGE = os.path.join(PIPELINES, "..", "python")
 NU = np.array([0.70, 0.73, 0.75, 0.76, 0.77, 0.78, 0.785, 0.79, 0.795])
 
 
@@ -99,7 +101,7 @@ class ProgramTest(unittest.TestCase):
         self.addCleanup(self.tmp.cleanup)
 
     def run_program(self, *args):
-        env = dict(os.environ, PYTHONPATH=PIPELINES)
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join((PACKAGE, PIPELINES)))
         return subprocess.run([sys.executable, os.path.join(PIPELINES, "analysis", "jamming_point.py"), *args],
                               env=env, capture_output=True, text=True)
 

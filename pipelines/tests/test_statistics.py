@@ -15,7 +15,7 @@ import unittest
 
 import numpy as np
 
-from granflow_py import statistics as st
+from granflow import statistics as st
 from synthetic import scratch_make
 
 MIN_SAMPLES = 32
@@ -196,7 +196,7 @@ class InterfaceTest(unittest.TestCase):
 
     def test_missing_library_names_the_path_and_the_build_command(self):
         code = (
-            "from granflow_py import statistics as st\n"
+            "from granflow import statistics as st\n"
             "try:\n    st.blocking_error([1.0] * 40)\n"
             "except st.LibraryMissing as e:\n    print(e)\n"
         )

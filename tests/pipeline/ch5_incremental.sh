@@ -27,7 +27,7 @@ mapfile -t trajectories < <(ls runs/test/shear_*.h5 runs/test/window_*.h5 runs/t
 up_to_date || fail "fresh ch5 is not up to date"
 # Runs at the ν of SHEAR_LONG_NU (0.5 in test.mk) take SHEAR_LONG_STRAIN, the others
 # SHEAR_STRAIN; gf-correlate was asked to find each run's transient.
-PYTHONPATH=pipelines /usr/bin/python3 - <<'PY' || fail "run lengths or transient detection not as test.mk asks"
+PYTHONPATH=python:pipelines /usr/bin/python3 - <<'PY' || fail "run lengths or transient detection not as test.mk asks"
 import glob, h5py
 for path in glob.glob("runs/test/shear_nu*.h5"):
     with h5py.File(path, "r") as f:

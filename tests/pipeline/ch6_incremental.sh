@@ -46,7 +46,7 @@ done
 # The equilibrium runs are elastic and unsheared, the measured run starts from the settling
 # run's last frame, which starts from the warm-up's, and lasts CH6_EQ_STEPS; the table has one row per μ = 0 run of the ch4 grid and one
 # equilibrium row per ν.
-PYTHONPATH=pipelines /usr/bin/python3 - <<'PY' || fail "equilibrium runs or table not as test.mk asks"
+PYTHONPATH=python:pipelines /usr/bin/python3 - <<'PY' || fail "equilibrium runs or table not as test.mk asks"
 import h5py
 for nu in ("0.500", "0.700"):
     with h5py.File(f"runs/test/eq_nu{nu}_s1.h5", "r") as f:

@@ -7,7 +7,7 @@ import math
 import h5py
 import numpy as np
 
-from granflow_py.hdf5 import read_attrs, read_group
+from granflow.hdf5 import read_attrs, read_group
 
 NAN = float("nan")
 # Two friction coefficients are the same when they differ by less than this.

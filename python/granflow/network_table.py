@@ -10,8 +10,8 @@ import math
 import h5py
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py.hdf5 import read_attrs, read_group
+from granflow import correlation_table as ct
+from granflow.hdf5 import read_attrs, read_group
 
 NAN = float("nan")
 # Eqs. 6.27-6.29: the suffix of the /prediction datasets, the thesis' equation, its left-hand side.

@@ -14,8 +14,8 @@ import os
 import h5py
 import numpy as np
 
-from granflow_py import correlation_table as ct
-from granflow_py.hdf5 import read_attrs, read_group
+from granflow import correlation_table as ct
+from granflow.hdf5 import read_attrs, read_group
 
 NAN = float("nan")
 # ξ/ξ_el above which a point is drawn filled: the thesis' bound of the dilute regime (l. 735).

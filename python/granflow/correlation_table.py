@@ -18,7 +18,7 @@ import math
 import h5py
 import numpy as np
 
-from granflow_py.hdf5 import read_attrs, read_group
+from granflow.hdf5 import read_attrs, read_group
 
 NAN = float("nan")
 

@@ -6,7 +6,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
 
-from granflow_py.outputs import atomic_output  # noqa: E402
+from granflow.outputs import atomic_output  # noqa: E402
 
 __all__ = ["plt", "save_figure"]
 

@@ -8,7 +8,7 @@ import tempfile
 import h5py
 import numpy as np
 
-from granflow_py.hdf5 import read_attrs, read_group, sha256
+from granflow.hdf5 import read_attrs, read_group, sha256
 
 
 def atomic_output(path):
