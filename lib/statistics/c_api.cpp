@@ -2,12 +2,14 @@
 // throw and returns a code, since an exception must not unwind into a foreign caller.
 #include "statistics/c_api.h"
 
+#include <algorithm>
 #include <new>
 #include <span>
 #include <stdexcept>
 #include <vector>
 
 #include "statistics/blocking.hpp"
+#include "statistics/jackknife.hpp"
 #include "statistics/python_arithmetic.hpp"
 #include "statistics/steady.hpp"
 
@@ -29,11 +31,22 @@ int guarded(F&& f) {
 
 std::span<const double> values(const double* x, std::size_t n) { return {n ? x : nullptr, n}; }
 
+// One block's sums for jackknife_errors(), which needs copy and +=.
+struct BlockSums {
+  std::vector<double> sums;
+  BlockSums& operator+=(const BlockSums& other) {
+    for (std::size_t k = 0; k < sums.size(); ++k) sums[k] += other.sums[k];
+    return *this;
+  }
+};
+
+struct EstimatorFailed {};
+
 }  // namespace
 
 extern "C" {
 
-GF_STAT_EXPORT int gf_stat_abi_version(void) { return 1; }
+GF_STAT_EXPORT int gf_stat_abi_version(void) { return 2; }
 
 GF_STAT_EXPORT size_t gf_stat_blocking_min_samples(void) { return granflow::kBlockingMinSamples; }
 
@@ -74,6 +87,21 @@ GF_STAT_EXPORT int gf_stat_halves_change(const double* x, size_t n, double* chan
 GF_STAT_EXPORT int gf_stat_numpy_sum(const double* x, size_t n, double* sum) {
   if ((n && !x) || !sum) return GF_STAT_BAD_ARGUMENT;
   return guarded([&] { *sum = granflow::numpy_sum(values(x, n)); });
+}
+
+GF_STAT_EXPORT int gf_stat_jackknife_errors(const double* blocks, size_t count, size_t width, size_t components,
+                                            gf_stat_estimator estimate, void* context, double* errors) {
+  if (!count || (width && !blocks) || !estimate || (components && !errors)) return GF_STAT_BAD_ARGUMENT;
+  return guarded([&] {
+    std::vector<BlockSums> b(count);
+    for (size_t k = 0; k < count; ++k) b[k].sums.assign(blocks + k * width, blocks + (k + 1) * width);
+    const std::vector<double> e = granflow::jackknife_errors(b, [&](const BlockSums& s) {
+      std::vector<double> out(components);
+      if (estimate(s.sums.data(), width, out.data(), components, context) != 0) throw EstimatorFailed{};
+      return out;
+    });
+    std::copy(e.begin(), e.end(), errors);
+  });
 }
 
 }  // extern "C"

@@ -1,8 +1,8 @@
-/* C ABI of the statistics (statistics/steady.hpp, statistics/blocking.hpp) for callers in
- * other languages: pipelines/granflow_py/statistics.py loads it with ctypes from the shared
- * library <build>/lib/libgranflow_statistics.so. Every function returns a GF_STAT_* code
- * and writes its results through the pointers only on GF_STAT_OK; no C++ exception
- * crosses it. */
+/* C ABI of the statistics (statistics/steady.hpp, statistics/blocking.hpp,
+ * statistics/jackknife.hpp) for callers in other languages: python/granflow/statistics.py
+ * loads it with ctypes from the shared library <build>/lib/libgranflow_statistics.so. Every
+ * function returns a GF_STAT_* code and writes its results through the pointers only on
+ * GF_STAT_OK; no C++ exception crosses it. */
 #ifndef GRANFLOW_STATISTICS_C_API_H
 #define GRANFLOW_STATISTICS_C_API_H
 
@@ -19,7 +19,8 @@ enum {
   GF_STAT_FAILED = 3           /* anything else (out of memory) */
 };
 
-/* Version of this interface: changes whenever a signature or a return code does. */
+/* Version of this interface: changes whenever a signature or a return code does, or a
+ * function is added (2: gf_stat_jackknife_errors). */
 int gf_stat_abi_version(void);
 size_t gf_stat_blocking_min_samples(void);
 
@@ -39,6 +40,19 @@ int gf_stat_halves_change(const double* x, size_t n, double* change, double* err
 
 /* numpy_sum() of x[0..n): the summation order of the means above. */
 int gf_stat_numpy_sum(const double* x, size_t n, double* sum);
+
+/* The estimator of gf_stat_jackknife_errors(): from the `width` sums `sums`, writes
+ * `components` estimates to `estimates` and returns 0; any other value stops the jackknife
+ * (which then returns GF_STAT_FAILED). `context` is the caller's, passed through. */
+typedef int (*gf_stat_estimator)(const double* sums, size_t width, double* estimates, size_t components,
+                                 void* context);
+
+/* jackknife_errors() of `count` blocks of `width` sums each, stored one after the other
+ * (row-major count × width; blocks are added element-wise): the `components` standard
+ * errors of estimate() over the blocks left out one at a time, NaN with a single block.
+ * GF_STAT_BAD_ARGUMENT for no block. */
+int gf_stat_jackknife_errors(const double* blocks, size_t count, size_t width, size_t components,
+                             gf_stat_estimator estimate, void* context, double* errors);
 
 #ifdef __cplusplus
 }

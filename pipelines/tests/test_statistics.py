@@ -1,9 +1,9 @@
-"""pipelines/granflow_py/statistics.py (the C++ lib/statistics through ctypes) against the
-same algorithms written with numpy, kept here as the reference oracle: the blocking errors
-and the halves change must be the same floats bit for bit (assertEqual), MSER the same
-truncation, on many random series (AR(1), white noise, ramps, constant series, lengths
-32..5000 and a few longer ones past numpy's 8192-value chunks); and the make rules that
-remake the tables when the library changes."""
+"""python/granflow/statistics.py (the C++ lib/statistics through ctypes) against the
+same algorithms written with numpy, kept here as the reference oracle: the blocking errors,
+the halves change and the block jackknife must be the same floats bit for bit
+(assertEqual), MSER the same truncation, on many random series (AR(1), white noise, ramps,
+constant series, lengths 32..5000 and a few longer ones past numpy's 8192-value chunks);
+and the make rules that remake the tables when the library changes."""
 import math
 import os
 import re
@@ -87,6 +87,34 @@ def oracle_halves_change(x):
         float(np.mean(second) - np.mean(first)),
         math.hypot(oracle_blocking_error(first)[0], oracle_blocking_error(second)[0]),
     )
+
+
+def oracle_jackknife_errors(blocks, estimate):
+    """lib/statistics/jackknife.hpp in Python floats, in its order: each block left out in
+    turn, the others added element-wise starting from the first one kept; the mean of the
+    left-out estimates summed in order, each divided by B; error = √((B−1)/B · Σ(x − x̄)²)."""
+    blocks = [np.asarray(b, dtype=float) for b in blocks]
+    n = len(blocks)
+    if n < 2:
+        return [math.nan] * len(estimate(blocks[0]))
+    left_out = []
+    for b in range(n):
+        first = 1 if b == 0 else 0
+        others = blocks[first].copy()
+        for k in range(n):
+            if k not in (b, first):
+                others += blocks[k]
+        left_out.append([float(v) for v in estimate(others)])
+    errors = []
+    for c in range(len(left_out[0])):
+        mean = 0.0
+        for x in left_out:
+            mean += x[c] / n
+        sum2 = 0.0
+        for x in left_out:
+            sum2 += (x[c] - mean) * (x[c] - mean)
+        errors.append(math.sqrt((n - 1) / n * sum2))
+    return errors
 
 
 # ---- random series ----
@@ -174,6 +202,60 @@ class BitIdentityTest(unittest.TestCase):
             n = min(len(a), len(b))
             self.assertEqual(st.mser_first_row([a[:n], b[:n]], TRANSIENT_BLOCKS), oracle_first_row([a[:n], b[:n]]), n)
         self.assertEqual(st.mser_first_row([]), 0)
+
+
+class JackknifeTest(unittest.TestCase):
+    """jackknife_errors through the C API's estimator callback, against the oracle above."""
+
+    @staticmethod
+    def ratio_and_sum(s):
+        return [s[0] / s[1], s[2], s[0] * s[2] / (s[1] * s[1])]
+
+    def test_bit_identical_to_the_oracle(self):
+        rng = np.random.default_rng(46)
+        for count in (2, 3, 7, 16, 100):
+            blocks = rng.uniform(0.5, 2.0, size=(count, 3)) * 10.0 ** rng.uniform(-3, 3, size=3)
+            with self.subTest(blocks=count):
+                got = st.jackknife_errors(blocks, self.ratio_and_sum)
+                self.assertIs(type(got), np.ndarray)
+                self.assertEqual(got.tolist(), oracle_jackknife_errors(blocks, self.ratio_and_sum))
+
+    def test_linear_estimator_is_the_standard_error_of_the_block_means(self):
+        # For the mean of block values, the jackknife error is the plain standard error.
+        x = np.random.default_rng(7).normal(size=(40, 1))
+        got = st.jackknife_errors(np.column_stack((x, np.ones(40))), lambda s: [s[0] / s[1]])
+        self.assertAlmostEqual(got[0], float(np.std(x, ddof=1) / math.sqrt(40)), places=12)
+
+    def test_edges(self):
+        self.assertTrue(np.isnan(st.jackknife_errors([[1.0, 2.0]], lambda s: [s[0], s[1]])).all())
+        self.assertEqual(len(st.jackknife_errors(np.ones((4, 2)), lambda s: [])), 0)
+        # Leaving out the last block leaves s[1] = 0: that component's error is NaN.
+        nan = st.jackknife_errors(
+            [[1.0, 0.0], [1.0, 0.0], [2.0, 1.0]], lambda s: [s[0] / s[1] if s[1] else math.nan, s[0]]
+        )
+        self.assertTrue(math.isnan(nan[0]))
+        self.assertTrue(math.isfinite(nan[1]))
+        with self.assertRaisesRegex(ValueError, "at least one block"):
+            st.jackknife_errors(np.zeros((0, 2)), lambda s: [s[0]])
+        with self.assertRaisesRegex(ValueError, "2-D"):
+            st.jackknife_errors([1.0, 2.0], lambda s: [s[0]])
+
+    def test_estimator_errors_are_raised_again(self):
+        def fails(s):
+            if s[0] > 2:
+                raise ZeroDivisionError("from the estimator")
+            return [s[0]]
+
+        with self.assertRaisesRegex(ZeroDivisionError, "from the estimator"):
+            st.jackknife_errors(np.ones((4, 1)), fails)
+        calls = []
+
+        def changes_length(s):
+            calls.append(1)
+            return [s[0]] * len(calls)
+
+        with self.assertRaisesRegex(ValueError, "estimate returned 2 values, and 1 before"):
+            st.jackknife_errors(np.ones((4, 1)), changes_length)
 
 
 class InterfaceTest(unittest.TestCase):

@@ -13,6 +13,9 @@ that scripts importing this module only for its neighbours need no build.
   Flyvbjerg-Petersen blocking with Jonsson's plateau choice (lib/statistics/blocking.hpp).
 - halves_change(x) -> (change, error): mean of the second half minus the first, with
   blocking errors (the stationarity test of the shear tables).
+- jackknife_errors(blocks, estimate): block-jackknife standard errors of an estimator of
+  sums over blocks (lib/statistics/jackknife.hpp, as gf-correlate uses it).
+- numpy_sum(x): the library's sum, in numpy's pairwise order.
 The floats equal bit for bit those of the same algorithm written with numpy (the library
 sums in numpy's pairwise order and rounds hypot as math.hypot), checked by
 pipelines/tests/test_statistics.py.
@@ -23,16 +26,26 @@ import os
 import numpy as np
 
 LIBRARY_NAME = "libgranflow_statistics.so"
-ABI_VERSION = 1
+ABI_VERSION = 2
 MIN_SAMPLES = 32  # blocking's minimum, checked against the library at load time
 
 _OK, _TOO_FEW_SAMPLES, _BAD_ARGUMENT = 0, 1, 2
 _REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _library = None
+# The estimator callback of gf_stat_jackknife_errors (lib/statistics/c_api.h).
+_ESTIMATOR = ctypes.CFUNCTYPE(
+    ctypes.c_int,
+    ctypes.POINTER(ctypes.c_double),
+    ctypes.c_size_t,
+    ctypes.POINTER(ctypes.c_double),
+    ctypes.c_size_t,
+    ctypes.c_void_p,
+)
 
 
 class LibraryMissing(RuntimeError):
-    """The statistics library is not built (or not where GRANFLOW_BUILD says)."""
+    """The statistics library is not built (or not where GRANFLOW_BUILD says), or is from
+    another version of granflow."""
 
 
 def library_path():
@@ -60,18 +73,29 @@ def _load():
     lib.gf_stat_abi_version.argtypes = []
     lib.gf_stat_blocking_min_samples.restype = ctypes.c_size_t
     lib.gf_stat_blocking_min_samples.argtypes = []
-    lib.gf_stat_mser_truncation.argtypes = [array, ctypes.c_size_t, size_p]
-    lib.gf_stat_mser_first_row.argtypes = [array, ctypes.c_size_t, ctypes.c_size_t, ctypes.c_size_t, size_p]
-    lib.gf_stat_blocking_error.argtypes = [array, ctypes.c_size_t, double_p, size_p, ctypes.POINTER(ctypes.c_int)]
-    lib.gf_stat_halves_change.argtypes = [array, ctypes.c_size_t, double_p, double_p]
-    lib.gf_stat_numpy_sum.argtypes = [array, ctypes.c_size_t, double_p]
-    for name in ("mser_truncation", "mser_first_row", "blocking_error", "halves_change", "numpy_sum"):
-        getattr(lib, "gf_stat_" + name).restype = ctypes.c_int
+    # Checked first: an older library lacks functions bound below.
     if lib.gf_stat_abi_version() != ABI_VERSION or lib.gf_stat_blocking_min_samples() != MIN_SAMPLES:
         raise LibraryMissing(
             f"{path} is from another version of granflow (ABI {lib.gf_stat_abi_version()}, "
             f"expected {ABI_VERSION}); rebuild it with `make -f Makefile.sweeps build`"
         )
+    lib.gf_stat_mser_truncation.argtypes = [array, ctypes.c_size_t, size_p]
+    lib.gf_stat_mser_first_row.argtypes = [array, ctypes.c_size_t, ctypes.c_size_t, ctypes.c_size_t, size_p]
+    lib.gf_stat_blocking_error.argtypes = [array, ctypes.c_size_t, double_p, size_p, ctypes.POINTER(ctypes.c_int)]
+    lib.gf_stat_halves_change.argtypes = [array, ctypes.c_size_t, double_p, double_p]
+    lib.gf_stat_numpy_sum.argtypes = [array, ctypes.c_size_t, double_p]
+    lib.gf_stat_jackknife_errors.argtypes = [
+        array,
+        ctypes.c_size_t,
+        ctypes.c_size_t,
+        ctypes.c_size_t,
+        _ESTIMATOR,
+        ctypes.c_void_p,
+        array,
+    ]
+    for name in ("mser_truncation", "mser_first_row", "blocking_error", "halves_change", "numpy_sum"):
+        getattr(lib, "gf_stat_" + name).restype = ctypes.c_int
+    lib.gf_stat_jackknife_errors.restype = ctypes.c_int
     _library = lib
     return lib
 
@@ -164,3 +188,51 @@ def numpy_sum(x):
     out = ctypes.c_double()
     _check(lib.gf_stat_numpy_sum(x if n else np.zeros(1), n, ctypes.byref(out)), "numpy_sum")
     return float(out.value)
+
+
+def _doubles(pointer, n):
+    # n doubles at a C pointer as a numpy view (empty without touching the pointer when n = 0).
+    return np.ctypeslib.as_array(pointer, shape=(n,)) if n else np.zeros(0)
+
+
+def jackknife_errors(blocks, estimate):
+    """Block-jackknife standard errors of an estimator of sums, for estimators nonlinear in
+    sums over frames (ratios such as gf-correlate's C = Σw/W), where blocking a series does
+    not apply.
+
+    blocks: 2-D array-like, row b the sums of block b (consecutive frames, longer than the
+    correlation time). estimate: a function of one 1-D float array of sums (a row, or rows
+    added) returning a 1-D array-like of estimates, the same length each time. The estimator
+    is recomputed with each block left out (the others added element-wise, in the library's
+    order), and per component error² = (B − 1)/B · Σ_b (x_(b) − x̄)², x̄ the mean of the x_(b).
+    Returns a float array of the errors (NaN with a single block, or where a left-out value
+    is NaN); ValueError without a block; an exception of `estimate` is raised again."""
+    lib = _load()
+    data = np.ascontiguousarray(np.asarray(blocks, dtype=np.float64))
+    if data.ndim != 2:
+        raise ValueError(f"expected blocks of sums (2-D), got shape {data.shape}")
+    count, width = data.shape
+    if count == 0:
+        raise ValueError("jackknife_errors needs at least one block")
+    components = len(np.asarray(estimate(data[0].copy()), dtype=np.float64).reshape(-1))
+    failure = []
+
+    def call(sums, sums_width, out, out_components, _context):
+        try:
+            value = np.asarray(estimate(_doubles(sums, sums_width).copy()), dtype=np.float64).reshape(-1)
+            if len(value) != out_components:
+                raise ValueError(f"estimate returned {len(value)} values, and {out_components} before")
+            _doubles(out, out_components)[:] = value
+            return 0
+        except BaseException as exc:  # noqa: B036  (raised again below, after the library returns)
+            failure.append(exc)
+            return 1
+
+    errors = np.zeros(max(components, 1))
+    code = lib.gf_stat_jackknife_errors(
+        data.reshape(-1) if data.size else np.zeros(1), count, width, components, _ESTIMATOR(call), None, errors
+    )
+    if failure:
+        raise failure[0]
+    _check(code, "jackknife_errors")
+    return errors[:components].copy()
