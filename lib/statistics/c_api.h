@@ -1,8 +1,9 @@
 /* C ABI of the statistics (statistics/steady.hpp, statistics/blocking.hpp,
  * statistics/jackknife.hpp) for callers in other languages: python/granflow/statistics.py
- * loads it with ctypes from the shared library <build>/lib/libgranflow_statistics.so. Every
- * function returns a GF_STAT_* code and writes its results through the pointers only on
- * GF_STAT_OK; no C++ exception crosses it. */
+ * loads it with ctypes from the shared library libgranflow_statistics.so (<build>/lib, or the
+ * copy `pip install ./python` builds into the package). Every function returns a GF_STAT_*
+ * code and writes its results through the pointers only on GF_STAT_OK; no C++ exception
+ * crosses it. */
 #ifndef GRANFLOW_STATISTICS_C_API_H
 #define GRANFLOW_STATISTICS_C_API_H
 

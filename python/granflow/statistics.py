@@ -1,10 +1,16 @@
-"""The steady-state rule and the error estimators of lib/statistics (C++), for the Python
-pipelines: one implementation for the programs and the tables (docs/method/statistics.md).
+"""The steady-state rule and the error estimators of lib/statistics (C++), for Python: one
+implementation for the programs, the pipelines' tables and users (docs/method/statistics.md).
 
-Loaded with ctypes from the shared library libgranflow_statistics.so, which the default
-build target makes (`make -f Makefile.sweeps build`), in $GRANFLOW_BUILD/lib (the CMake
-build directory; <repo>/build by default). The library is loaded at the first call, so
-that scripts importing this module only for its neighbours need no build.
+Loaded with ctypes from the shared library libgranflow_statistics.so, at the first call (so
+that importing this module needs no library), from the first of:
+
+1. $GRANFLOW_BUILD/lib when GRANFLOW_BUILD is set (a CMake build directory; Makefile.sweeps
+   and ctest set it, so the pipelines use the library whose stamp their tables depend on);
+2. the package's own directory, where `pip install ./python` builds it;
+3. <repo>/build/lib when the package is used from the repository (PYTHONPATH=<repo>/python),
+   the default CMake build directory (`make -f Makefile.sweeps build` makes it).
+
+library_path() says which it is.
 
 - mser_truncation(x): MSER's truncation point d <= len(x)//2 (White 1997).
 - mser_first_row(series, blocks=100): the first row of the steady part of per-row series
@@ -30,7 +36,8 @@ ABI_VERSION = 2
 MIN_SAMPLES = 32  # blocking's minimum, checked against the library at load time
 
 _OK, _TOO_FEW_SAMPLES, _BAD_ARGUMENT = 0, 1, 2
-_REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
+_REPO = os.path.dirname(os.path.dirname(_PACKAGE))
 _library = None
 # The estimator callback of gf_stat_jackknife_errors (lib/statistics/c_api.h).
 _ESTIMATOR = ctypes.CFUNCTYPE(
@@ -48,10 +55,31 @@ class LibraryMissing(RuntimeError):
     another version of granflow."""
 
 
+def _in_repository():
+    # The package's source directory <repo>/python/granflow, not an installed copy.
+    return os.path.isfile(os.path.join(_REPO, "lib", "statistics", "c_api.h"))
+
+
 def library_path():
-    """Where the shared library is looked for: $GRANFLOW_BUILD/lib, default <repo>/build/lib."""
-    build = os.environ.get("GRANFLOW_BUILD") or os.path.join(_REPO, "build")
-    return os.path.join(os.path.abspath(build), "lib", LIBRARY_NAME)
+    """Where the shared library is looked for: $GRANFLOW_BUILD/lib if GRANFLOW_BUILD is set;
+    else the package's directory if the library is there (an installed package); else
+    <repo>/build/lib (the package used from the repository)."""
+    build = os.environ.get("GRANFLOW_BUILD")
+    if build:
+        return os.path.join(os.path.abspath(build), "lib", LIBRARY_NAME)
+    bundled = os.path.join(_PACKAGE, LIBRARY_NAME)
+    if os.path.exists(bundled) or not _in_repository():
+        return bundled
+    return os.path.join(_REPO, "build", "lib", LIBRARY_NAME)
+
+
+def _remedy():
+    if os.environ.get("GRANFLOW_BUILD") or _in_repository():
+        return (
+            "build it with `make -f Makefile.sweeps build` (or set GRANFLOW_BUILD to the CMake build "
+            f"directory that has lib/{LIBRARY_NAME})"
+        )
+    return "reinstall the package (`pip install <repo>/python`, docs/python.md), which builds it"
 
 
 def _load():
@@ -62,11 +90,7 @@ def _load():
     try:
         lib = ctypes.CDLL(path)
     except OSError as exc:
-        raise LibraryMissing(
-            f"granflow statistics library not found at {path} ({exc}); build it with "
-            f"`make -f Makefile.sweeps build` (or set GRANFLOW_BUILD to the CMake build "
-            f"directory that has lib/{LIBRARY_NAME})"
-        ) from None
+        raise LibraryMissing(f"granflow statistics library not found at {path} ({exc}); {_remedy()}") from None
     size_p, double_p = ctypes.POINTER(ctypes.c_size_t), ctypes.POINTER(ctypes.c_double)
     array = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
     lib.gf_stat_abi_version.restype = ctypes.c_int
@@ -77,7 +101,7 @@ def _load():
     if lib.gf_stat_abi_version() != ABI_VERSION or lib.gf_stat_blocking_min_samples() != MIN_SAMPLES:
         raise LibraryMissing(
             f"{path} is from another version of granflow (ABI {lib.gf_stat_abi_version()}, "
-            f"expected {ABI_VERSION}); rebuild it with `make -f Makefile.sweeps build`"
+            f"expected {ABI_VERSION}); {_remedy().replace('build it', 'rebuild it', 1)}"
         )
     lib.gf_stat_mser_truncation.argtypes = [array, ctypes.c_size_t, size_p]
     lib.gf_stat_mser_first_row.argtypes = [array, ctypes.c_size_t, ctypes.c_size_t, ctypes.c_size_t, size_p]
