@@ -1,6 +1,6 @@
 """Reading granflow's HDF5 files: strings as text, attributes, whole groups of datasets, one
-stored frame of grains, times in τ whatever unit a file stores them in; and the SHA-256 every
-table records for its inputs."""
+stored frame of grains (through granflow.trajectory), times in τ whatever unit a file stores
+them in; and the SHA-256 every table records for its inputs."""
 import hashlib
 
 import h5py
@@ -52,26 +52,20 @@ def read_parameters(path):
 
 def read_frame(path, frame=-1):
     """Positions, velocities, time (and its unit), radii, fixed flags, box edges and parameters
-    of one stored frame."""
-    with h5py.File(path, "r") as f:
-        g = f["/particles/grains"]
-        pos = g["position/value"][frame]
-        vel = g["velocity/value"][frame]
-        time = float(g["position/time"][frame])
-        unit = time_unit(g["position/time"])
-        radius = g["radius"][...]
-        fixed = g["fixed"][...] if "fixed" in g else np.zeros(len(radius), dtype=np.uint8)
-        edges = g["box/edges/value"][frame]
-        params = read_attrs(f["/parameters"])
+    of one stored frame, as a dict (granflow.Trajectory reads it, without its contacts)."""
+    from granflow.trajectory import Trajectory  # here: granflow.trajectory imports this module
+
+    with Trajectory(path) as run:
+        f = run.frame(frame, contacts=False)
     return {
-        "position": pos,
-        "velocity": vel,
-        "time": time,
-        "time_unit": unit,
-        "radius": radius,
-        "fixed": fixed,
-        "edges": edges,
-        "parameters": params,
+        "position": f.position,
+        "velocity": f.velocity,
+        "time": f.time,
+        "time_unit": run.time_unit,
+        "radius": run.radius,
+        "fixed": run.fixed,
+        "edges": f.box.edges,
+        "parameters": run.parameters,
     }
 
 
