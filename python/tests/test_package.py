@@ -3,7 +3,8 @@ built programs (GRANFLOW_BIN; 64 grains, well under a second each): granflow.Tra
 by frame (grains, the Lees–Edwards box, every contact column), granflow.hdf5.read_frame
 (the pipelines' snapshot reader, now on top of it) against its former implementation,
 granflow.read_table on the tables of gf-kinetic, gf-correlate, gf-network, gf-stz fit and
-d2min and steady_state.py (every dataset, its units and meaning). Run from the
+d2min and steady_state.py (every dataset, its units and meaning), and the example
+examples/pressure_vs_packing.py on a steady_state.py table of real runs. Run from the
 repository (PYTHONPATH=<repo>/python:<repo>/pipelines)."""
 import os
 import subprocess
@@ -20,6 +21,7 @@ from granflow import hdf5
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import programs  # noqa: E402  (a sibling module: the tests' inputs)
 
+EXAMPLE = os.path.join(programs.REPO, "python", "examples", "pressure_vs_packing.py")
 STEADY_STATE = os.path.join(programs.REPO, "pipelines", "analysis", "steady_state.py")
 
 
@@ -239,6 +241,40 @@ class TablesTest(Runs, unittest.TestCase):
             for name, values in old["runs"].items():
                 if name != "attrs":
                     np.testing.assert_array_equal(new["runs"][name].values, values, err_msg=name)
+
+
+@programs.require("gf-pack", "gf-shear")
+class ExampleTest(Runs, unittest.TestCase):
+    """examples/pressure_vs_packing.py on a steady_state.py table of three e = 0 runs and one
+    e = 0.5 run at another rate: the points it plots are p/γ̇² of the table's rows."""
+
+    @classmethod
+    def make(cls):
+        runs = [programs.shear_run(cls.dir, nu, restitution=0.0) for nu in (0.70, 0.75, 0.80)]
+        runs.append(programs.shear_run(cls.dir, 0.75, restitution=0.5, rate=2.0))
+        cls.table = os.path.join(cls.dir, "ch4_sweep.h5")
+        subprocess.run(
+            [sys.executable, STEADY_STATE, "--from-strain", "0.1", "-o", cls.table, *runs],
+            check=True,
+            capture_output=True,
+        )
+
+    def test_plot_of_pressure_over_rate_squared(self):
+        png = os.path.join(self.dir, "p.png")
+        result = subprocess.run([sys.executable, EXAMPLE, self.table, png], capture_output=True, text=True)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(png, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        with h5py.File(self.table, "r") as f:
+            nu, e = f["runs/packing_fraction"][...], f["runs/restitution"][...]
+            expected = f["steady/pressure"][...] / f["runs/rate"][...] ** 2
+        printed = [line.split() for line in result.stdout.splitlines() if line.startswith("e =")]
+        self.assertEqual(len(printed), len(nu), result.stdout)
+        rows = []
+        for fields in printed:  # "e = 0  ν = 0.7000  p/γ̇² = 3.23631 ± 0.91"
+            rows.append(int(np.flatnonzero((e == float(fields[2])) & np.isclose(nu, float(fields[5]), atol=5e-5))[0]))
+            self.assertAlmostEqual(float(fields[8]) / expected[rows[-1]], 1, delta=1e-5)
+        self.assertEqual(sorted(rows), list(range(len(nu))))
 
 
 if __name__ == "__main__":
