@@ -8,7 +8,7 @@
 # branch from the last frame of the shear run of the same name, storing every step.
 # Analyses (gf-correlate, one row per run): $(RUNS)/ch5_correlate.h5 (the sweep, with
 # --reference: ξ/ξ_el, ν_bc) and $(RUNS)/ch5_clusters.h5 (the windows' contact clusters).
-# Figures $(FIGURES)/fig5_<k>.png read them through pipelines/granflow_py/correlation_table.py.
+# Figures $(FIGURES)/fig5_<k>.png read them through python/granflow/correlation_table.py.
 # ν_c(μ, e), where the steady stresses diverge: $(RUNS)/ch5_steady.h5 (steady_state.py over the
 # sweep) and $(RUNS)/ch5_jamming.h5 (jamming_point.py on it, per (μ, e) group of runs at
 # ν >= CH5_JAMMING_FROM_NU).

@@ -1,7 +1,7 @@
 #pragma once
 // The steady-state rule, one implementation for every consumer: gf-incline (flow rate and
 // kinetic energy), gf-correlate --detect-transient (T and p of shear runs) and, through the
-// C ABI (statistics/c_api.h) and pipelines/granflow_py/statistics.py, the Python tables
+// C ABI (statistics/c_api.h) and python/granflow/statistics.py, the Python tables
 // (steady_state.py, critical_angle.py).
 //
 // The rule: MSER truncation on block means of each series, the latest truncation wins;

@@ -1,6 +1,6 @@
-"""granflow_py itself: the disk images (periodic in x, Lees–Edwards in y: the image above is
-shifted by +δ), the table writer's provenance and atomicity, and strings read back as text
-whichever way HDF5 stores them."""
+"""The package granflow's modules the pipelines share: the disk images (periodic in x,
+Lees–Edwards in y: the image above is shifted by +δ), the table writer's provenance and
+atomicity, and strings read back as text whichever way HDF5 stores them."""
 import glob
 import os
 import tempfile

@@ -259,6 +259,12 @@ class ExampleTest(Runs, unittest.TestCase):
             capture_output=True,
         )
 
+    def test_docs_quote_the_script(self):
+        with open(EXAMPLE, encoding="utf-8") as f:
+            script = f.read()
+        with open(os.path.join(programs.REPO, "docs", "python.md"), encoding="utf-8") as f:
+            self.assertIn("```python\n" + script + "```\n", f.read())
+
     def test_plot_of_pressure_over_rate_squared(self):
         png = os.path.join(self.dir, "p.png")
         result = subprocess.run([sys.executable, EXAMPLE, self.table, png], capture_output=True, text=True)
