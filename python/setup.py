@@ -50,16 +50,21 @@ def statistics_sources():
 class BuildLibrary(build_ext):
     """build_ext that names the statistics library libgranflow_statistics.so (the name the
     CMake build gives it: a plain shared library for ctypes, not an extension module), and
-    compiles its sources by absolute path, so that the objects stay under build_temp (a path
-    with ../ would put them beside it)."""
+    compiles its sources by absolute path, so that the objects stay under build_temp (with
+    ../lib/... their paths would lead out of it)."""
 
-    def get_ext_fullpath(self, ext_name):
-        path = super().get_ext_fullpath(ext_name)
-        return os.path.join(os.path.dirname(path), LIBRARY) if ext_name == "granflow._statistics" else path
+    def get_ext_filename(self, fullname):
+        # Called with the full name and with its last part alone (distutils' get_ext_fullpath).
+        *package, name = fullname.split(".")
+        return os.path.join(*package, LIBRARY) if name == "_statistics" else super().get_ext_filename(fullname)
 
     def build_extension(self, ext):
-        ext.sources = [os.path.normpath(os.path.join(HERE, s)) for s in ext.sources]
-        super().build_extension(ext)
+        relative = ext.sources  # restored: setuptools refuses absolute paths elsewhere
+        ext.sources = [os.path.normpath(os.path.join(HERE, s)) for s in relative]
+        try:
+            super().build_extension(ext)
+        finally:
+            ext.sources = relative
 
 
 statistics = Extension(

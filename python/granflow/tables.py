@@ -36,8 +36,9 @@ class Column:
         """The values' shape."""
         return self.values.shape
 
-    def __array__(self, dtype=None):
-        return self.values if dtype is None else self.values.astype(dtype)
+    def __array__(self, dtype=None, copy=None):
+        values = self.values if dtype is None else self.values.astype(dtype)
+        return values.copy() if copy else values
 
     def __len__(self):
         return len(self.values)
