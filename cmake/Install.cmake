@@ -5,6 +5,7 @@
 #   P/lib/cmake/granflow           the CMake package: granflow::granflow, granflow::statistics
 #   P/lib/pkgconfig/granflow.pc    the same library for pkg-config
 #   P/share/man/man1               a man page per program, made by help2man from its --help
+#   P/lib/python3/dist-packages    the Python package granflow with its statistics library
 # (lib, include and share/man as GNUInstallDirs names them: CMAKE_INSTALL_LIBDIR and so on.)
 include(CMakePackageConfigHelpers)
 
@@ -122,4 +123,12 @@ endforeach()
 add_custom_target(granflow_man_pages ALL DEPENDS ${_man_pages})
 install(FILES ${_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 
-# PYTHON PACKAGE (pipelines/granflow_py): its install rules go here (issue 46); not installed yet.
+# ---------------------------------------------------------------- Python package
+# The package granflow (python/granflow, docs/python.md) with the statistics library it loads
+# beside its modules, as `pip install ./python` lays it out, under GRANFLOW_INSTALL_PYTHONDIR
+# (default lib/python3/dist-packages: on Debian's python3 path when P is /usr/local).
+set(GRANFLOW_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING
+    "where cmake --install puts the Python package granflow, relative to the prefix")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/granflow DESTINATION ${GRANFLOW_INSTALL_PYTHONDIR}
+        FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
+install(FILES $<TARGET_FILE:granflow_statistics> DESTINATION ${GRANFLOW_INSTALL_PYTHONDIR}/granflow)

@@ -54,6 +54,10 @@ expected=("$libdir/libgranflow.a" "$libdir/libgranflow_statistics.so" "$libdir/p
           "$libdir/cmake/granflow/granflowConfig.cmake" "$libdir/cmake/granflow/granflowConfigVersion.cmake"
           "$libdir/cmake/granflow/granflowTargets.cmake")
 for p in "${programs[@]}"; do expected+=("$bindir/$p" "$mandir/man1/$p.1"); done
+# The Python package, every module and the statistics library beside them.
+pythondir=${GRANFLOW_INSTALL_PYTHONDIR:-lib/python3/dist-packages}
+expected+=("$pythondir/granflow/libgranflow_statistics.so")
+for f in "$src"/python/granflow/*.py; do expected+=("$pythondir/granflow/$(basename "$f")"); done
 # Every header of lib/, in its folder.
 while IFS= read -r h; do
   expected+=("$includedir/granflow/$h")
@@ -145,5 +149,22 @@ libs=$(pkg-config --libs granflow)
 quiet "linking all of libgranflow.a with \`pkg-config --libs granflow\`" "$cxx" whole.cpp \
   -Wl,--whole-archive "$prefix/$libdir/libgranflow.a" -Wl,--no-whole-archive $libs -o whole
 
-echo "install test: OK: ${#expected[@]} files, ${#programs[@]} man pages," \
+# ---------------------------------------------------------------- the installed Python package
+# Outside the repository (no PYTHONPATH into it, no GRANFLOW_BUILD): the installed package reads
+# the trajectory and finds its own statistics library.
+python_out=$(cd "$tmp" && env -u GRANFLOW_BUILD PYTHONPATH="$prefix/$pythondir" /usr/bin/python3 -c '
+import sys, numpy as np, granflow, granflow.statistics as st
+with granflow.Trajectory("shear.h5") as t:
+    print(granflow.__file__, st.library_path(), len(t), len(t[-1].position), t[-1].step)
+print(st.blocking_error(np.arange(64.0) % 2)[0] >= 0)
+' 2>&1) || fail "the installed Python package failed: $python_out"
+read -r py_file py_library py_frames py_grains py_step py_ok <<< "${python_out//$'\n'/ }"
+[[ $py_file == "$prefix/$pythondir/granflow/"* ]] || fail "python imported granflow from $py_file, not the prefix"
+[ "$py_library" = "$prefix/$pythondir/granflow/libgranflow_statistics.so" ] ||
+  fail "granflow.statistics loads $py_library, not the installed package's library"
+[ "$py_grains $py_frames $py_step $py_ok" = "$grains $frames $last_step True" ] ||
+  fail "the installed Python package read $py_grains grains, $py_frames frames, last step $py_step" \
+       "($py_ok), h5dump $grains, $frames, $last_step"
+
+echo "install test: OK: ${#expected[@]} files, ${#programs[@]} man pages, the Python package," \
   "the consumer by CMake and pkg-config (${got//$'\n'/; })"
