@@ -2,8 +2,8 @@
 which `pip install` put the package granflow, in isolated mode (-I: no PYTHONPATH, no script
 directory on sys.path) from a directory outside the repository. Checks that granflow comes
 from the venv with its own statistics library, then reads RUNS_DIR/shear.h5 frame by frame
-against h5py, RUNS_DIR/kinetic.h5 (gf-kinetic's table of it) and computes a blocking error
-against numpy. Prints one line per check; exits 1 at the first failure."""
+against h5py, RUNS_DIR/kinetic.h5 (gf-kinetic's table of it) and computes the blocking error of
+RUNS_DIR/series.npy, which must equal RUNS_DIR/series_blocking.txt (the CMake build's library). Prints one line per check; exits 1 at the first failure."""
 import math
 import os
 import sys
@@ -21,31 +21,6 @@ def check(condition, message):
     if not condition:
         fail(message)
     print(f"ok: {message}")
-
-
-def blocking_error_numpy(x):
-    """Flyvbjerg–Petersen blocking with Jonsson's plateau, read one level higher and from at
-    least 16 blocks (docs/method/statistics.md), written with numpy."""
-    x = np.asarray(x, dtype=float)
-    se2, n, stat = [], [], []
-    while len(x) >= 2:
-        if len(x) % 2:
-            x = x[1:]
-        m = len(x)
-        d = x - x.mean()
-        var = np.mean(d * d)
-        se2.append(var / (m - 1))
-        n.append(m)
-        stat.append(0.0 if var == 0 else m * ((m - 1) * var / m**2 + np.mean(d[:-1] * d[1:])) ** 2 / var**2)
-        x = 0.5 * (x[0::2] + x[1::2])
-    tail = np.cumsum(stat[::-1])[::-1]
-    usable = max(j for j in range(len(se2)) if n[j] >= 16)
-    for j in range(usable + 1):
-        dof = len(se2) - j
-        if tail[j] < dof * (1 - 2 / (9 * dof) + 2.3263478740408408 * math.sqrt(2 / (9 * dof))) ** 3:
-            j = min(j + 1, usable)
-            return math.sqrt(se2[j]), n[j], True
-    return math.sqrt(se2[usable]), n[usable], False
 
 
 def main():
@@ -93,13 +68,13 @@ def main():
             f"gf-kinetic table: p_static = {p.values[0]:.6g} [{p.units}]",
         )
 
+    x = np.load(os.path.join(runs, "series.npy"))
+    with open(os.path.join(runs, "series_blocking.txt")) as fh:
+        error, blocks, plateau = fh.read().split()
+    expected = (float(error), int(blocks), bool(int(plateau)))
+    got = st.blocking_error(x)
+    check(got == expected, f"blocking error {got} equals the CMake build's {expected}")
     rng = np.random.default_rng(46)
-    x = np.empty(3000)
-    x[0] = rng.normal()
-    for i in range(1, len(x)):
-        x[i] = 0.9 * x[i - 1] + rng.normal()
-    got, expected = st.blocking_error(x), blocking_error_numpy(x)
-    check(got == expected, f"blocking error {got} equals numpy's {expected}")
     blocks = np.column_stack((rng.normal(size=40), np.ones(40)))
     jackknife = st.jackknife_errors(blocks, lambda s: [s[0] / s[1]])[0]
     check(abs(jackknife / (np.std(blocks[:, 0], ddof=1) / math.sqrt(40)) - 1) < 1e-12, f"jackknife error {jackknife}")

@@ -12,7 +12,8 @@ without the repository (ctest python.test_install; docs/python.md).
 4. runs installed_check.py with the venv's Python in isolated mode (-I), from the temporary
    directory, with PYTHONPATH, PYTHONHOME and GRANFLOW_BUILD removed from its environment: it
    checks that granflow and its statistics library come from the venv, reads the run frame by
-   frame against h5py, reads the table, and compares a blocking error with numpy's.
+   frame against h5py, reads the table, and compares a blocking error with the one the
+   repository's statistics library (the CMake build's) gives for the same series.
 
 Exit 0 when every step passes, 1 when one fails (its output shown), 77 (skipped, said why)
 when the venv module or the programs are missing."""
@@ -79,6 +80,22 @@ def main():
         os.mkdir(runs)
         os.symlink(programs.shear_run(runs), os.path.join(runs, "shear.h5"))
         programs.kinetic_table(runs, [os.path.join(runs, "shear.h5")])
+        # A correlated series and its blocking error by the repository's statistics library (the
+        # CMake build's): the venv's pip-built copy must give the same floats.
+        import numpy as np
+
+        sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        from granflow import statistics
+
+        rng = np.random.default_rng(46)
+        series = np.empty(3000)
+        series[0] = rng.normal()
+        for i in range(1, len(series)):
+            series[i] = 0.9 * series[i - 1] + rng.normal()
+        np.save(os.path.join(runs, "series.npy"), series)
+        expected = statistics.blocking_error(series)
+        with open(os.path.join(runs, "series_blocking.txt"), "w") as fh:
+            fh.write(f"{expected[0]!r} {expected[1]} {int(expected[2])}\n")
         check = os.path.join(tmp, "installed_check.py")
         shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "installed_check.py"), check)
         result = step("installed_check.py", [python, "-I", check, venv, runs], env=env, cwd=tmp)
