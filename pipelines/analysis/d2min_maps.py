@@ -295,28 +295,33 @@ def strains(text_value, count):
         raise ValueError(f"--start-strain: {exc}") from exc
 
 
+def add_black_arguments(ap):
+    """The options of a script that measures maps: --threshold, --gap, -o and the maps."""
+    ap.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD,
+                    help=f"black: D2min per neighbour above this times <d>^2 ({DEFAULT_THRESHOLD:g})")
+    ap.add_argument("--gap", type=float, default=DEFAULT_GAP,
+                    help=f"clusters: centres closer than (Ri+Rj)(1+gap) ({DEFAULT_GAP:g})")
+    ap.add_argument("-o", "--output", required=True)
+
+
+def check_black_arguments(args):
+    """ValueError naming the option when --threshold, --gap or -o (one of the maps) is bad."""
+    if not (args.threshold > 0 and math.isfinite(args.threshold)):
+        raise ValueError(f"--threshold must be positive (got {args.threshold:g})")
+    if not (args.gap >= 0 and math.isfinite(args.gap)):
+        raise ValueError(f"--gap must be 0 or more (got {args.gap:g})")
+    if os.path.abspath(args.output) in {os.path.abspath(p) for p in args.maps}:
+        raise ValueError(f"--output {args.output} is one of the inputs")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument(
-        "--threshold",
-        type=float,
-        default=DEFAULT_THRESHOLD,
-        help=f"black: D2min per neighbour above this times <d>^2 ({DEFAULT_THRESHOLD:g})",
-    )
-    ap.add_argument(
-        "--gap", type=float, default=DEFAULT_GAP, help=f"clusters: centres closer than (Ri+Rj)(1+gap) ({DEFAULT_GAP:g})"
-    )
+    add_black_arguments(ap)
     ap.add_argument("--start-strain", default="", help="strain at each map's reference frame, comma-separated (0)")
-    ap.add_argument("-o", "--output", required=True)
     ap.add_argument("maps", nargs="+", help="gf-stz d2min outputs; the first is compared with the others")
     args = ap.parse_args()
     try:
-        if not (args.threshold > 0 and math.isfinite(args.threshold)):
-            raise ValueError(f"--threshold must be positive (got {args.threshold:g})")
-        if not (args.gap >= 0 and math.isfinite(args.gap)):
-            raise ValueError(f"--gap must be 0 or more (got {args.gap:g})")
-        if os.path.abspath(args.output) in {os.path.abspath(p) for p in args.maps}:
-            raise ValueError(f"--output {args.output} is one of the inputs")
+        check_black_arguments(args)
         starts = strains(args.start_strain, len(args.maps))
         maps, thresholds, default, sweep = analyse(args.maps, args.threshold, args.gap, starts)
     except ValueError as exc:

@@ -94,20 +94,11 @@ def analyse(paths, threshold, gap):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--threshold", type=float, default=d2min_maps.DEFAULT_THRESHOLD,
-                    help=f"black: D2min per neighbour above this times <d>^2 ({d2min_maps.DEFAULT_THRESHOLD:g})")
-    ap.add_argument("--gap", type=float, default=d2min_maps.DEFAULT_GAP,
-                    help=f"clusters: centres closer than (Ri+Rj)(1+gap) ({d2min_maps.DEFAULT_GAP:g})")
-    ap.add_argument("-o", "--output", required=True)
+    d2min_maps.add_black_arguments(ap)
     ap.add_argument("maps", nargs="+", help="gf-stz d2min maps of one run, in pairs A1 B1 A2 B2 ...")
     args = ap.parse_args()
     try:
-        if not (args.threshold > 0 and math.isfinite(args.threshold)):
-            raise ValueError(f"--threshold must be positive (got {args.threshold:g})")
-        if not (args.gap >= 0 and math.isfinite(args.gap)):
-            raise ValueError(f"--gap must be 0 or more (got {args.gap:g})")
-        if os.path.abspath(args.output) in {os.path.abspath(p) for p in args.maps}:
-            raise ValueError(f"--output {args.output} is one of the inputs")
+        d2min_maps.check_black_arguments(args)
         source, interval, pairs, result = analyse(args.maps, args.threshold, args.gap)
     except (ValueError, OSError) as exc:
         print(f"d2min_statistics.py: error: {exc}", file=sys.stderr)
