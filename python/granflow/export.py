@@ -95,10 +95,11 @@ def parser():
     return p
 
 
-def parse_frames(text, frames):
-    """The frame indices `text` ("A:B[:S]" or "K") selects among `frames` frames; Usage if it is
-    malformed, out of range or selects none."""
+def parse_frames(text, frames, name="the trajectory"):
+    """The frame indices `text` ("A:B[:S]" or "K") selects among `frames` frames of the file
+    called `name` in messages; Usage if it is malformed, out of range or selects none."""
     where = f"option --frames: '{text}'"
+    has = f"{name} has {frames} frame{'s' if frames != 1 else ''}, 0..{frames - 1}"
     parts = text.split(":")
     if len(parts) > 3:
         raise Usage(f"{where}: expected A:B[:S] or K")
@@ -107,13 +108,13 @@ def parse_frames(text, frames):
     except ValueError:
         raise Usage(f"{where}: expected integers, as A:B[:S] or K") from None
     if frames == 0:
-        raise Usage("the trajectory has no frames")
+        raise Usage(f"{name} has no frames")
     if len(values) == 1:
         if values[0] is None:
             raise Usage(f"{where}: expected A:B[:S] or K")
         k = values[0] + frames if values[0] < 0 else values[0]
         if not 0 <= k < frames:
-            raise Usage(f"{where}: frame {values[0]} out of range (the trajectory has {frames} frames, 0..{frames - 1})")
+            raise Usage(f"{where}: frame {values[0]} out of range ({has})")
         return [k]
     start, stop = values[0], values[1]
     step = values[2] if len(values) == 3 else None
@@ -122,10 +123,10 @@ def parse_frames(text, frames):
     start = 0 if start is None else (start + frames if start < 0 else start)
     stop = frames if stop is None else (stop + frames if stop < 0 else stop)
     if not 0 <= start < frames or not 0 <= stop <= frames:
-        raise Usage(f"{where}: out of range (the trajectory has {frames} frames, 0..{frames - 1})")
+        raise Usage(f"{where}: out of range ({has})")
     selected = list(range(start, stop, step or 1))
     if not selected:
-        raise Usage(f"{where}: selects no frame (the trajectory has {frames} frames, 0..{frames - 1})")
+        raise Usage(f"{where}: selects no frame ({has})")
     return selected
 
 
@@ -255,7 +256,7 @@ def export(args):
     except (OSError, ValueError, KeyError) as e:
         raise Usage(f"'{args.trajectory}': cannot be read as a granflow trajectory ({_reason(e)})") from None
     with run:
-        frames = parse_frames(args.frames, len(run))
+        frames = parse_frames(args.frames, len(run), f"'{args.trajectory}'")
         hoomd, make, mode = _gsd()
         contacts = not args.no_contacts
         progress = sys.stderr.isatty() and not args.quiet
@@ -289,8 +290,8 @@ def export(args):
             raise
         finally:
             out.abandon()
-    bonds = "" if contacts else ", no contacts"
-    return f"{PROG}: wrote {len(frames)} frame(s) of '{args.trajectory}' (frames {frames[0]}..{frames[-1]}{bonds}) to '{args.output}'"
+    what = f"frames {frames[0]}..{frames[-1]}" + ("" if contacts else ", no contacts")
+    return f"{PROG}: wrote {len(frames)} frame(s) of '{args.trajectory}' ({what}) to '{args.output}'"
 
 
 def _reason(e):

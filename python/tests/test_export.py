@@ -182,7 +182,8 @@ class ExportTest(unittest.TestCase):
             m1 = (p[:, 0] + lx / 2 - position[:, 0]) / lx
             np.testing.assert_allclose(m1, np.round(m1), atol=1e-5)
         velocity = grains["velocity/value"][k]
-        np.testing.assert_allclose(frame.particles.velocity[:, :2], velocity, rtol=1e-6, atol=1e-6 * np.abs(velocity).max())
+        scale = np.abs(velocity).max()
+        np.testing.assert_allclose(frame.particles.velocity[:, :2], velocity, rtol=1e-6, atol=1e-6 * scale)
         np.testing.assert_array_equal(frame.particles.velocity[:, 2], 0)
         omega = grains["angular_velocity/value"][k]
         np.testing.assert_array_equal(frame.log["particles/angular_velocity"], omega)
@@ -251,7 +252,9 @@ class ExportTest(unittest.TestCase):
                     self.assertAlmostEqual(mda_tilt(ts.dimensions, ly), offset / ly, delta=1e-5)
             # MDAnalysis' bonds are the topology, read from the file's first frame only.
             first, last = g["contacts/frame_offset"][SELECTED[0] : SELECTED[0] + 2]
-            np.testing.assert_array_equal(np.sort(u.bonds.indices, axis=0), np.sort(g["contacts/pair"][first:last], axis=0))
+            pairs = g["contacts/pair"][first:last]
+            self.assertGreater(len(pairs), 0)
+            self.assertEqual(sorted(map(tuple, u.bonds.indices.tolist())), sorted(map(tuple, pairs.tolist())))
         # A later frame alone: its contacts are MDAnalysis' bonds.
         single = os.path.join(self.out, "single.gsd")
         k = SELECTED[-1]
@@ -328,7 +331,8 @@ class ExportTest(unittest.TestCase):
 
     def test_help(self):
         env = dict(os.environ, PYTHONPATH=PYTHONPATH)
-        result = subprocess.run([sys.executable, "-m", "granflow", "export", "--help"], capture_output=True, text=True, env=env)
+        command = [sys.executable, "-m", "granflow", "export", "--help"]
+        result = subprocess.run(command, capture_output=True, text=True, env=env)
         self.assertEqual(result.returncode, 0)
         for option in ("--output", "--frames", "--no-contacts", "--quiet", "A:B[:S]"):
             self.assertIn(option, result.stdout)
