@@ -55,6 +55,19 @@ def shear_run(directory, packing_fraction=0.8, restitution=0.5, rate=1.0):
     return out
 
 
+def incline_run(directory):
+    """A gf-pack incline start of GRAINS grains and a short gf-incline run from it at 20° (200
+    steps, a frame every 50); returns (the start's path, the run's path)."""
+    pack = os.path.join(directory, "incline_pack.h5")
+    out = os.path.join(directory, "incline.h5")
+    run("gf-pack", "--incline", "-n", str(GRAINS), "-o", pack)
+    run(
+        "gf-incline", "-i", pack, "-o", out, "--angle", "20", "--steps", "200",
+        "--frame-every", "50", "--profile-block", "50", "--from-time", "0",
+    )  # fmt: skip
+    return pack, out
+
+
 def kinetic_table(directory, runs):
     """gf-kinetic's table of the runs (from FROM_STRAIN); returns its path."""
     out = os.path.join(directory, "kinetic.h5")

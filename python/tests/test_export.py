@@ -114,13 +114,7 @@ class ExportTest(unittest.TestCase):
         cls.dir = cls.tmp.name
         cls.shear = programs.shear_run(cls.dir, packing_fraction=0.8)
         cls.pack = os.path.join(cls.dir, "pack_nu0.800.h5")
-        cls.incline_pack = os.path.join(cls.dir, "incline_pack.h5")
-        cls.incline = os.path.join(cls.dir, "incline.h5")
-        programs.run("gf-pack", "--incline", "-n", str(programs.GRAINS), "-o", cls.incline_pack)
-        programs.run(
-            "gf-incline", "-i", cls.incline_pack, "-o", cls.incline, "--angle", "20", "--steps", "200",
-            "--frame-every", "50", "--profile-block", "50", "--from-time", "0",
-        )  # fmt: skip
+        cls.incline_pack, cls.incline = programs.incline_run(cls.dir)
         cls.out = os.path.join(cls.dir, "out")
         os.mkdir(cls.out)
         cls.gsd = os.path.join(cls.out, "shear.gsd")

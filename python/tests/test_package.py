@@ -61,13 +61,7 @@ class TrajectoryTest(Runs, unittest.TestCase):
     def make(cls):
         cls.shear = programs.shear_run(cls.dir)
         cls.pack = os.path.join(cls.dir, "pack_nu0.800.h5")
-        cls.incline_pack = os.path.join(cls.dir, "incline_pack.h5")
-        cls.incline = os.path.join(cls.dir, "incline.h5")
-        programs.run("gf-pack", "--incline", "-n", str(programs.GRAINS), "-o", cls.incline_pack)
-        programs.run(
-            "gf-incline", "-i", cls.incline_pack, "-o", cls.incline, "--angle", "20", "--steps", "200",
-            "--frame-every", "50", "--profile-block", "50", "--from-time", "0",
-        )  # fmt: skip
+        cls.incline_pack, cls.incline = programs.incline_run(cls.dir)
 
     def check_against_h5py(self, path):
         with h5py.File(path, "r") as f, granflow.Trajectory(path) as run:
