@@ -355,7 +355,7 @@ TEST(GfCorrelate, RealShearRun) {
             0);
   auto r = run_tool("gf-correlate", run + " -o " + out + " --from-strain 0.1 --blocks 4");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("xi ="), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ξ ="), std::string::npos) << r.err;
   EXPECT_EQ(read_ints(out, "/runs/frames")[0], 16);  // strains 0.10, 0.12, …, 0.40
   const double xi = read_doubles(out, "/correlation/xi")[0];
   const double xi_abs = read_doubles(out, "/correlation/xi_abs")[0];
