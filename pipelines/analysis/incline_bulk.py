@@ -90,7 +90,7 @@ def read_run(path):
         params["start"] = os.path.basename(attrs.get("input", ""))
         # input_time is in the parent's unit (input_time_unit; code time before it existed).
         params["start_time"] = in_tau(
-            float(attrs.get("input_time", 0.0)), attrs.get("input_time_unit", "code"), params["tau"]
+            float(attrs.get("input_time", 0.0)), attrs.get("input_time_unit", "T"), params["tau"]
         )
         params["start_friction"] = float(attrs.get("parent_friction", math.nan))
         g = f["/profiles"]

@@ -17,17 +17,24 @@ def read_attrs(obj):
     return {k: text(v) for k, v in obj.attrs.items()}
 
 
+# The H5MD unit of the code time (docs/file-format.md, Units); files written before the
+# units module said "code".
+CODE_TIME_UNITS = ("T", "code")
+
+
 def time_unit(ds):
     """The unit of an H5MD time dataset: its `unit` attribute ("tau" in gf-incline's
-    trajectories, "code" in the others); "code" where the attribute is absent."""
-    return text(ds.attrs.get("unit", "code"))
+    trajectories, "T", the code time, in the others; "code" in files before the units
+    module); "T" where the attribute is absent."""
+    return text(ds.attrs.get("unit", "T"))
 
 
 def in_tau(time, unit, tau):
-    """Times stored in `unit` ("tau" or "code") in units of τ (tau: τ in code time)."""
+    """Times stored in `unit` ("tau", or the code time "T" or "code") in units of τ (tau: τ
+    in code time)."""
     if unit == "tau":
         return time
-    if unit == "code":
+    if unit in CODE_TIME_UNITS:
         return time / tau
     raise ValueError(f"unknown time unit '{unit}'")
 

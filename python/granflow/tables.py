@@ -10,8 +10,10 @@ their layouts are in docs/file-format.md, "Analysis tables".
     print(table.describe())                              # every dataset with units and meaning
 
 A table is read whole when opened (tables are small: one row per run) and the file closed.
-Strings (input paths, kinds) are arrays of str. `units` and `meaning` are the datasets'
-attributes of those names, None where a dataset has none."""
+Strings (input paths, kinds) are arrays of str. `units`, `unit` and `meaning` are the
+datasets' attributes of those names, None where a dataset has none: `units` the quantity in
+words ("force/length"), `unit` its H5MD unit string ("M T-2", docs/file-format.md, Units;
+the programs' tables have it, the scripts' not yet)."""
 from collections.abc import Mapping
 
 import h5py
@@ -21,14 +23,15 @@ from granflow.hdf5 import read_attrs, read_dataset
 
 class Column:
     """One dataset of a table: name (its path in the file, e.g. "runs/packing_fraction"),
-    values (a NumPy array; strings as str), units and meaning (its attributes, None where
-    absent) and attrs (all its attributes, strings as text). np.asarray(column) is its values."""
+    values (a NumPy array; strings as str), units, unit and meaning (its attributes, None
+    where absent) and attrs (all its attributes, strings as text). np.asarray(column) is its values."""
 
     def __init__(self, name, values, attrs):
         self.name = name
         self.values = values
         self.attrs = attrs
         self.units = attrs.get("units")
+        self.unit = attrs.get("unit")
         self.meaning = attrs.get("meaning")
 
     @property

@@ -9,7 +9,7 @@ docs/file-format.md, "Trajectory files") lazily, one stored frame at a time, as 
 
 The file stays open while the Trajectory is; each frame reads only its own rows. Lengths,
 velocities and forces are in code units; times in the file's unit (Trajectory.time_unit:
-"code", or "tau" for gf-incline)."""
+"T", the code time, or "tau" for gf-incline; "code" in older files)."""
 import h5py
 import numpy as np
 
@@ -147,9 +147,10 @@ class Trajectory:
     len(t) is the number of stored frames; t[k] (negative k counts from the end) and
     t.frame(k, contacts=True) read frame k; iterating reads the frames in order, one at a
     time. Attributes read at opening: path, radius, mass, fixed (the grains' constants),
-    parameters (the /parameters attributes, strings as text), time_unit ("code" or "tau"),
-    periodic (the box's boundary, per axis), rate (γ̇ of /lees_edwards, None without it),
-    has_contacts (whether the file has /contacts). steps and times: every frame's, read on use."""
+    parameters (the /parameters attributes, strings as text), time_unit ("T" or "tau";
+    "code" in older files), periodic (the box's boundary, per axis), rate (γ̇ of
+    /lees_edwards, None without it), has_contacts (whether the file has /contacts). steps
+    and times: every frame's, read on use."""
 
     def __init__(self, path):
         self.path = path
