@@ -10,6 +10,7 @@
 #include "incline/observer.hpp"
 #include "incline/start.hpp"
 #include "io/provenance.hpp"
+#include "io/units.hpp"
 #include "run/runner.hpp"
 
 using namespace granflow;
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
                        "profile block (" + std::to_string(last_block_start) + " τ)");
     set_length(plan, steps);
     // The files speak τ, as the options do.
-    plan.time_unit = {"tau", tau};
+    plan.time_unit = {io::kTauUnit, tau};
 
     const Vec2 gravity = incline_gravity(g, angle);
     ProfileAccumulator profiles(profile_grid(start.box, bin * 2 * start.mean_radius), block);

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "incline/start.hpp"
+#include "io/units.hpp"
 
 namespace granflow {
 
@@ -19,6 +20,7 @@ io::Parameters described(const std::string& meaning, const std::string& units) {
   io::Parameters p;
   p.set("meaning", meaning);
   p.set("units", units);
+  p.set("unit", io::unit_of(units));
   return p;
 }
 

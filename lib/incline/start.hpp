@@ -29,8 +29,8 @@ struct InclineStart {
   std::size_t frame_index = 0;
   std::int64_t frame_step = 0;
   double frame_time = 0;
-  // The unit of frame_time: the input's (its time datasets' `unit` attribute; "code"
-  // where absent).
+  // The unit of frame_time: the input's (its time datasets' `unit` attribute: "T", or
+  // "code" in files before the units module; io::kCodeTime where absent).
   std::string frame_time_unit = io::kCodeTime;
 };
 

@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "io/hdf5_handle.hpp"
+#include "io/units.hpp"
 
 namespace granflow::io {
 
@@ -50,6 +51,7 @@ struct AnalysisWriter::Impl {
     Dataset d = open_dataset(id(), object);
     write_attribute(d.get(), "meaning", meaning);
     write_attribute(d.get(), "units", units);
+    write_attribute(d.get(), "unit", unit_of(units));
     attributes(d.get(), extra);
   }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Analysis outputs (docs/file-format.md, Analysis tables): small HDF5 files of named datasets,
-// each with `meaning` and `units` attributes, and the provenance in /parameters.
+// each with `meaning`, `units` (the quantity in words, e.g. "force/length") and `unit` (its
+// H5MD unit string, io::unit_of: "M T-2") attributes, and the provenance in /parameters.
 // Paths are absolute ("/correlation/xi"); missing parent groups are created.
 // Errors are RuntimeFailures naming the file and the object.
 #include <cstdint>

@@ -33,6 +33,7 @@ struct FrameElement {
   std::string path;
   std::vector<hsize_t> inner;
   std::string inner_text;  // the shape for messages, e.g. "[grains][2]"
+  std::string quantity;    // what its value is, in the words of io::unit_of
 };
 // Every per-frame element of a trajectory of `grains` grains; the Lees–Edwards
 // offset only for boxes periodic in y.
@@ -47,8 +48,13 @@ struct ContactColumn {
   std::size_t (*size)(const ContactRecords&);
   const void* (*data)(const ContactRecords&);
   void* (*resize)(ContactRecords&, std::size_t rows);  // returns the storage
+  std::string quantity;                                // in the words of io::unit_of
 };
 const std::vector<ContactColumn>& contact_columns();
+
+// What each observable the programs record is, in the words of io::unit_of
+// (docs/file-format.md, Observables); RuntimeFailure for a name it does not know.
+const std::string& observable_quantity(const std::string& name);
 
 // Rows per tensor observable: [2][2], row-major (value[i][j] = T_ij).
 inline const std::vector<hsize_t> kTensorShape{2, 2};

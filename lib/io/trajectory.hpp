@@ -88,8 +88,9 @@ class Parameters {
 
 // The unit of every time a trajectory stores (the `time` of each H5MD element), named
 // by the H5MD `unit` attribute of each time dataset: kCodeTime, the engine's own time
-// (gf-pack, gf-shear), unless a program chooses another, e.g. gf-incline's τ.
-inline constexpr const char* kCodeTime = "code";
+// (gf-pack, gf-shear), unless a program chooses another, e.g. gf-incline's τ
+// (io/units.hpp: "T" and "tau").
+inline constexpr const char* kCodeTime = "T";
 struct TimeUnit {
   std::string name = kCodeTime;
   double code_per_unit = 1;  // the unit in code time: stored time = code time / this

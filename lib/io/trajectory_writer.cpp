@@ -12,6 +12,7 @@
 #include "io/hdf5_handle.hpp"
 #include "io/schema.hpp"
 #include "io/trajectory.hpp"
+#include "io/units.hpp"
 
 namespace granflow::io {
 
@@ -24,14 +25,17 @@ constexpr std::size_t kObservableBlock = 4096;
 struct Element {
   ExtendibleDataset step, time, value;
 
-  // time carries the H5MD `unit` attribute: the unit its values are in.
+  // Each dataset carries the H5MD `unit` attribute (docs/file-format.md, Units): time the
+  // unit its values are in, value that of `quantity`, step "1".
   static Element create(hid_t loc, const std::string& path, const std::vector<hsize_t>& inner,
-                        const std::string& time_unit) {
+                        const std::string& time_unit, const std::string& quantity) {
     Group group = create_group(loc, path);
     Element e{ExtendibleDataset::create<std::int64_t>(group.get(), "step", {}),
               ExtendibleDataset::create<double>(group.get(), "time", {}),
               ExtendibleDataset::create<double>(group.get(), "value", inner)};
+    write_attribute(e.step.id(), "unit", std::string("1"));
     write_attribute(e.time.id(), "unit", time_unit);
+    write_attribute(e.value.id(), "unit", unit_of(quantity));
     return e;
   }
   static Element open(hid_t loc, const std::string& path) {
@@ -105,10 +109,13 @@ struct TrajectoryWriter::Impl {
   void create_contacts(std::size_t frames_before) {
     Group group = create_group(id(), schema::kContacts);
     Contacts c;
-    for (const auto& column : schema::contact_columns())
+    for (const auto& column : schema::contact_columns()) {
       c.columns.push_back(
           ExtendibleDataset::create(group.get(), column.name, column.file_type, column.mem_type, column.inner));
+      write_attribute(c.columns.back().id(), "unit", unit_of(column.quantity));
+    }
     c.frame_offset = ExtendibleDataset::create<std::int64_t>(group.get(), "frame_offset", {});
+    write_attribute(c.frame_offset.id(), "unit", std::string("1"));
     // Frames written before contacts were recorded have none.
     std::vector<std::int64_t> zeros(frames_before + 1, 0);
     c.frame_offset.append(zeros.data(), zeros.size());
@@ -128,7 +135,8 @@ struct TrajectoryWriter::Impl {
       if (!exists(id(), schema::kObservables)) create_group(id(), schema::kObservables);
       std::vector<hsize_t> inner = width == 1 ? std::vector<hsize_t>{} : schema::kTensorShape;
       Observable o;
-      o.element = Element::create(id(), schema::kObservables + "/" + name, inner, time_unit.name);
+      o.element = Element::create(id(), schema::kObservables + "/" + name, inner, time_unit.name,
+                                  schema::observable_quantity(name));
       o.width = width;
       it = content.observables.emplace(name, std::move(o)).first;
     }
@@ -222,6 +230,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const std::string& a
   Group creator = create_group(h5md.get(), "creator");
   write_attribute(creator.get(), "name", std::string("granflow"));
   write_attribute(creator.get(), "version", granflow::version());
+  write_units_module(h5md.get());
 }
 
 void TrajectoryWriter::write_parameters(const Parameters& parameters) {
@@ -256,6 +265,10 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
   write_dataset(group.get(), "radius", {n}, grains.radius.data());
   write_dataset(group.get(), "mass", {n}, grains.mass.data());
   write_dataset(group.get(), "fixed", {n}, grains.fixed.data());
+  for (const auto& [name, quantity] : {std::pair{"radius", "length"}, {"mass", "mass"}, {"fixed", "1"}}) {
+    Dataset d = open_dataset(group.get(), name);
+    write_attribute(d.get(), "unit", unit_of(quantity));
+  }
   Group box_group = create_group(file, schema::kBox);
   write_attribute(box_group.get(), "dimension", std::int32_t{2});
   write_attribute(box_group.get(), "boundary",
@@ -265,7 +278,7 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
     write_attribute(lees_edwards.get(), "rate", 0.0);
   }
   for (const auto& element : schema::frame_elements(n, box.periodic_y))
-    c.elements.push_back(Element::create(file, element.path, element.inner, impl_->time_unit.name));
+    c.elements.push_back(Element::create(file, element.path, element.inner, impl_->time_unit.name, element.quantity));
   c.grains = n;
   c.periodic_y = box.periodic_y;
 }

@@ -105,7 +105,7 @@ class TrajectoryTest(Runs, unittest.TestCase):
         contacts = self.check_against_h5py(self.shear)
         self.assertGreater(contacts, 0, "a run at ν = 0.8 has contacts")
         with granflow.Trajectory(self.shear) as run:
-            self.assertEqual((run.time_unit, run.periodic, run.rate), ("code", (True, True), 1.0))
+            self.assertEqual((run.time_unit, run.periodic, run.rate), ("T", (True, True), 1.0))
             last = run[-1]
             self.assertEqual(last.index, len(run) - 1)
             self.assertGreater(last.box.offset, 0)
@@ -201,6 +201,7 @@ class TablesTest(Runs, unittest.TestCase):
                         np.testing.assert_array_equal(column.values, hdf5.read_dataset(ds), err_msg=name)
                         np.testing.assert_array_equal(np.asarray(column), column.values)
                         self.assertEqual(column.units, hdf5.read_attrs(ds).get("units"), name)
+                        self.assertEqual(column.unit, hdf5.read_attrs(ds).get("unit"), name)
                         self.assertEqual(column.meaning, hdf5.read_attrs(ds).get("meaning"), name)
                         self.assertTrue(any(line.startswith(name + " ") for line in described), name)
                         # The programs' tables give every dataset a meaning, every number units.

@@ -302,6 +302,8 @@ TEST(GfInclineTime, FilesAndStderrInTauLikeTheOptions) {
   for (const std::string& path : time_datasets(out)) EXPECT_EQ(unit_of(out, path), "tau") << path;
   EXPECT_EQ(out.attributes("/profiles/blocks/time_begin").get_string("units"), "tau");
   EXPECT_EQ(out.attributes("/profiles/blocks/time_end").get_string("units"), "tau");
+  EXPECT_EQ(out.attributes("/profiles/blocks/time_begin").get_string("unit"), "tau");
+  EXPECT_EQ(out.attributes("/profiles/blocks/time_end").get_string("unit"), "tau");
 }
 
 TEST(GfInclineTime, GfShearAndGfPackLabelCodeUnits) {
@@ -312,8 +314,8 @@ TEST(GfInclineTime, GfShearAndGfPackLabelCodeUnits) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const std::string& path : {pack, run}) {
     io::TrajectoryReader file(path);
-    for (const std::string& dataset : time_datasets(file)) EXPECT_EQ(unit_of(file, dataset), "code") << dataset;
-    EXPECT_EQ(unit_of(file, "/lees_edwards/offset/time"), "code") << path;  // boxes periodic in y only
+    for (const std::string& dataset : time_datasets(file)) EXPECT_EQ(unit_of(file, dataset), "T") << dataset;
+    EXPECT_EQ(unit_of(file, "/lees_edwards/offset/time"), "T") << path;  // boxes periodic in y only
   }
 }
 

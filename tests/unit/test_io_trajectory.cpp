@@ -745,7 +745,7 @@ TEST_F(IoReopen, PartialOutputShorterThanTheCheckpointIsRefused) {
 
 using IoTimeUnit = IoTest;
 
-// Every time dataset carries a `unit` attribute: "code" unless the writer was given
+// Every time dataset carries a `unit` attribute: "T" (code time) unless the writer was given
 // another unit, in which the times are then stored (code time / code_per_unit), also
 // after a reopen for append.
 TEST_F(IoTimeUnit, EveryTimeDatasetNamesItsUnitAndHoldsTimesInIt) {
@@ -774,7 +774,7 @@ TEST_F(IoTimeUnit, EveryTimeDatasetNamesItsUnitAndHoldsTimesInIt) {
       "/particles/grains/box/edges/time",   "/observables/height/time"};
   TrajectoryReader c(code), t(tau);
   for (const std::string& d : datasets) {
-    EXPECT_EQ(c.attributes(d).get_string("unit"), "code") << d;
+    EXPECT_EQ(c.attributes(d).get_string("unit"), "T") << d;
     EXPECT_EQ(t.attributes(d).get_string("unit"), "tau") << d;
   }
   EXPECT_EQ(c.frame_times(), std::vector<double>{2.0});

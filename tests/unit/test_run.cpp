@@ -207,9 +207,9 @@ bool run(const CommandLine& cli, const std::string& input, std::int64_t steps, s
       .add_parameters = [](io::Parameters& p) { p.set("extra_parameter", 1.5); },
       .restore = {},
   };
-  // The program's observables: here the first grain's spin.
+  // The program's observables: here the first grain's height.
   const Observer observe = [](const Engine& e, io::TrajectoryWriter& w) {
-    w.append_observable("spin", e.step_count(), e.time(), e.state().angular_velocity[0]);
+    w.append_observable("height", e.step_count(), e.time(), e.state().position[0].y());
   };
   OutputFile out(cli.text("output"), /*resumable=*/true);
   StartedRun r = start_or_resume(cli, plan, out, start);
@@ -259,7 +259,7 @@ TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
     expect_same_grains(a, b);
     expect_same_contacts(a.contacts, b.contacts);
   }
-  for (const char* name : {"spin", "contacts", "solver_iterations", "solver_residual", "max_overlap"}) {
+  for (const char* name : {"height", "contacts", "solver_iterations", "solver_residual", "max_overlap"}) {
     EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
     EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
   }
