@@ -205,11 +205,11 @@ void write_incline_table(const std::string& path, const std::vector<InclineRow>&
       flowing.push_back(rows[k].flowing);
     }
     w.write("/runs/input_sha256", sha, "");
-    w.write("/runs/flowing", {n}, flowing, "", "");
+    w.write("/runs/flowing", {n}, flowing, "", "1");
     auto column = [&](const char* name, double InclineRow::*member) {
       std::vector<double> v;
       for (const InclineRow& r : rows) v.push_back(r.*member);
-      w.write(name, {n}, v, "", "");
+      w.write(name, {n}, v, "", "1");  // every column here is a number
     };
     column("/runs/friction", &InclineRow::friction);
     column("/runs/restitution", &InclineRow::restitution);
