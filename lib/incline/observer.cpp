@@ -5,7 +5,6 @@
 
 #include "core/error.hpp"
 #include "incline/start.hpp"
-#include "io/units.hpp"
 
 namespace granflow {
 
@@ -19,8 +18,7 @@ double& observable(InclineObservables& o, int k) { return k == 0 ? o.flow_rate :
 io::Parameters described(const std::string& meaning, const std::string& units) {
   io::Parameters p;
   p.set("meaning", meaning);
-  p.set("units", units);
-  p.set("unit", io::unit_of(units));
+  p.set("units", units);  // TrajectoryWriter::write_array adds its H5MD `unit`
   return p;
 }
 

@@ -51,7 +51,7 @@ struct AnalysisWriter::Impl {
     Dataset d = open_dataset(id(), object);
     write_attribute(d.get(), "meaning", meaning);
     write_attribute(d.get(), "units", units);
-    write_attribute(d.get(), "unit", unit_of(units));
+    write_unit(d.get(), unit_of(units));
     attributes(d.get(), extra);
   }
 

@@ -131,8 +131,8 @@ class TrajectoryWriter {
 
   // A fixed-size array of doubles written in one go at an absolute path such as
   // /profiles/velocity_x (missing parent groups are created; the path must be new), with
-  // `attributes` (e.g. meaning, units) on the dataset. shape's product must equal
-  // values.size(). For analysis results, e.g. gf-incline's depth profiles.
+  // `attributes` (e.g. meaning, units) on the dataset, and, given `units`, its H5MD
+  // `unit` (io/units.hpp). shape's product must equal values.size(). For analysis results, e.g. gf-incline's depth profiles.
   void write_array(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<double>& values,
                    const Parameters& attributes = {});
 

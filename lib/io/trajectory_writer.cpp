@@ -33,9 +33,9 @@ struct Element {
     Element e{ExtendibleDataset::create<std::int64_t>(group.get(), "step", {}),
               ExtendibleDataset::create<double>(group.get(), "time", {}),
               ExtendibleDataset::create<double>(group.get(), "value", inner)};
-    write_attribute(e.step.id(), "unit", std::string("1"));
-    write_attribute(e.time.id(), "unit", time_unit);
-    write_attribute(e.value.id(), "unit", unit_of(quantity));
+    write_unit(e.step.id(), "1");
+    write_unit(e.time.id(), time_unit);
+    write_unit(e.value.id(), unit_of(quantity));
     return e;
   }
   static Element open(hid_t loc, const std::string& path) {
@@ -112,10 +112,10 @@ struct TrajectoryWriter::Impl {
     for (const auto& column : schema::contact_columns()) {
       c.columns.push_back(
           ExtendibleDataset::create(group.get(), column.name, column.file_type, column.mem_type, column.inner));
-      write_attribute(c.columns.back().id(), "unit", unit_of(column.quantity));
+      write_unit(c.columns.back().id(), unit_of(column.quantity));
     }
     c.frame_offset = ExtendibleDataset::create<std::int64_t>(group.get(), "frame_offset", {});
-    write_attribute(c.frame_offset.id(), "unit", std::string("1"));
+    write_unit(c.frame_offset.id(), "1");
     // Frames written before contacts were recorded have none.
     std::vector<std::int64_t> zeros(frames_before + 1, 0);
     c.frame_offset.append(zeros.data(), zeros.size());
@@ -267,7 +267,7 @@ void TrajectoryWriter::write_grains(const GrainProperties& grains, const Box& bo
   write_dataset(group.get(), "fixed", {n}, grains.fixed.data());
   for (const auto& [name, quantity] : {std::pair{"radius", "length"}, {"mass", "mass"}, {"fixed", "1"}}) {
     Dataset d = open_dataset(group.get(), name);
-    write_attribute(d.get(), "unit", unit_of(quantity));
+    write_unit(d.get(), unit_of(quantity));
   }
   Group box_group = create_group(file, schema::kBox);
   write_attribute(box_group.get(), "dimension", std::int32_t{2});
@@ -401,6 +401,8 @@ void TrajectoryWriter::write_array(const std::string& path, const std::vector<st
   Dataset dataset = open_dataset(file, path);
   for (const auto& [name, value] : attributes.items())
     std::visit([&, &name = name](const auto& v) { write_attribute(dataset.get(), name, v); }, value);
+  // Arrays described in words (`units`, as gf-incline's /profiles) get their H5MD unit.
+  if (attributes.has("units")) write_unit(dataset.get(), unit_of(attributes.get_string("units")));
 }
 
 void TrajectoryWriter::flush() { impl_->flush(); }

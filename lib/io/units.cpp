@@ -1,5 +1,6 @@
 #include "io/units.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -95,12 +96,32 @@ std::string unit_of(const std::string& quantity) {
   return unit.empty() ? "1" : unit;
 }
 
+namespace {
+
+void write_ascii_attribute(hid_t loc, const std::string& name, const std::string& value) {
+  if (has_attribute(loc, name)) check(H5Adelete(loc, name.c_str()), loc, "delete attribute " + name);
+  Datatype type(check(H5Tcopy(H5T_C_S1), loc, "copy string type"));
+  check(H5Tset_size(type.get(), std::max<std::size_t>(value.size(), 1)), loc, "set string size");
+  check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), loc, "set string padding");
+  check(H5Tset_cset(type.get(), H5T_CSET_ASCII), loc, "set string character set");
+  Dataspace space(check(H5Screate(H5S_SCALAR), loc, "create dataspace for attribute " + name));
+  Attribute attribute(check(H5Acreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), loc,
+                            "create attribute " + name));
+  std::string padded = value;
+  padded.resize(std::max<std::size_t>(value.size(), 1), '\0');
+  check(H5Awrite(attribute.get(), type.get(), padded.data()), loc, "write attribute " + name);
+}
+
+}  // namespace
+
+void write_unit(hid_t dataset, const std::string& unit) { write_ascii_attribute(dataset, "unit", unit); }
+
 void write_units_module(hid_t h5md_group) {
   Group modules =
       exists(h5md_group, "modules") ? open_group(h5md_group, "modules") : create_group(h5md_group, "modules");
   Group units = create_group(modules.get(), "units");
   write_attribute(units.get(), "version", std::vector<std::int32_t>{1, 0});
-  write_attribute(units.get(), "system", std::string(kUnitSystem));
+  write_ascii_attribute(units.get(), "system", kUnitSystem);
 }
 
 }  // namespace granflow::io

@@ -28,6 +28,11 @@ inline constexpr const char* kTauUnit = "tau";
 // RuntimeFailure on any other word.
 std::string unit_of(const std::string& quantity);
 
+// Writes the `unit` attribute of a dataset as the module asks: a scalar, fixed-length
+// string of the ASCII character set (granflow's other strings are UTF-8). Replaces an
+// existing one.
+void write_unit(hid_t dataset, const std::string& unit);
+
 // Writes the H5MD units module into an /h5md group: /h5md/modules/units with `version`
 // [1, 0] and `system`.
 void write_units_module(hid_t h5md_group);

@@ -2,8 +2,8 @@
 
 Runs each built program on small inputs (python/tests/programs.py: 64-grain packings and
 short gf-shear runs; a small incline), then walks every HDF5 file they wrote with h5py and
-fails, naming the file and the dataset, on a numeric dataset without a `unit` attribute or
-whose unit is not a unit string of granflow's system (docs/file-format.md, Units):
+fails, naming the file and the dataset, on a numeric dataset without a `unit` attribute (a
+scalar fixed-length ASCII string, as H5MD asks) or whose unit is not a unit string of granflow's system (docs/file-format.md, Units):
 unit factors separated by single spaces; at most one number, first, an integer or a decimal
 fraction with an optional signed integer power ("1" for a dimensionless number); symbols
 of the system, each once, with an optional non-zero signed integer power ("L T-1"). String
@@ -72,6 +72,9 @@ def problems(path):
             if "unit" not in obj.attrs:
                 found.append(f"{path}: /{name}: no unit attribute")
                 return
+            kind = obj.attrs.get_id("unit").get_type()
+            if not isinstance(kind, h5py.h5t.TypeStringID) or kind.is_variable_str() or kind.get_cset() != h5py.h5t.CSET_ASCII:
+                found.append(f"{path}: /{name}: unit is not a fixed-length ASCII string")
             why = unit_problem(text(obj.attrs["unit"]))
             if why:
                 found.append(f"{path}: /{name}: {why}")
