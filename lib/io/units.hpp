@@ -17,8 +17,8 @@ namespace granflow::io {
 
 // The value of /h5md/modules/units' `system` attribute.
 inline constexpr const char* kUnitSystem = "granflow reduced";
-// The H5MD unit of the code time and of gf-incline's τ.
-inline constexpr const char* kCodeTimeUnit = "T";
+// The H5MD unit of gf-incline's τ; the code time's, "T", is io::kCodeTime
+// (io/trajectory.hpp), the default of every trajectory's TimeUnit.
 inline constexpr const char* kTauUnit = "tau";
 
 // The H5MD unit string of a quantity named in words: products (·) and one quotient (/)
