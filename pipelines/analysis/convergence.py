@@ -32,12 +32,14 @@ Output (HDF5, written atomically): /parameters (program, script_sha256, command_
 default_step, reference, activation (the runs' gf-shear --activation: runs of two activations are
 refused), thresholds); /runs/input, input_sha256 (the tables read);
 /series/<column> [rows], one row per (point, N, tolerance, observable, step): grains,
-packing_fraction, restitution, friction, tolerance, step, observable, value, error;
+packing_fraction, restitution, friction, tolerance, step, observable, unit, value, error;
 /classes/<column> [rows], one row per (point, observable) classified: packing_fraction,
-restitution, friction, grains, observable, class, steps, span, default_value, default_error,
+restitution, friction, grains, observable, unit, class, steps, span, default_value, default_error,
 finest_step, finest_value, finest_error, limit, limit_error, limit_exponent, step_1pct,
 exponent, exponent_error, chi2_dof, exponent_finest (between the two finest steps), change
 (finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point;
+Values, errors and limits are in the row's unit (the string column `unit`, the observable's unit in its
+table divided by γ̇^power; their datasets' attribute unit_column = "unit"); the other columns are numbers.
 --classes-csv the classes alone, one CSV line per (point, observable), for report.py --step-classes.
 """
 import argparse
@@ -52,7 +54,8 @@ import h5py
 import numpy as np
 
 from granflow import outputs
-from granflow.hdf5 import read_attrs, read_dataset, sha256
+from granflow import units as granflow_units
+from granflow.hdf5 import read_attrs, read_dataset, sha256, text
 
 # (key, label, program, dataset, error dataset or None, power of γ̇ it is divided by)
 OBSERVABLES = (
@@ -373,10 +376,13 @@ def row_statistics(run_path, from_strain):
 
 def read_rows(paths):
     """({(grains, ν, e, μ, tol, step): {observable key: (value, error)}} over every table, the
-    runs' contact activation); ValueError when the runs mix activations."""
+    runs' contact activation, {observable key: unit string}, the unit of its value as divided by
+    γ̇^power); ValueError when the runs mix activations, or a table gives an observable no unit
+    or another unit than the others."""
     cache = {}
     rows = {}
     activations = {}
+    units = {key: "1" for key, _, _ in ROW_OBSERVABLES}
     for path in paths:
         with h5py.File(path, "r") as f:
             parameters = read_attrs(f["parameters"])
@@ -399,6 +405,13 @@ def read_rows(paths):
                 for obs, _label, prog, name, error, power in observables:
                     if prog != program or name not in f:
                         continue
+                    if "unit" not in f[name].attrs:
+                        raise ValueError(f"{path}: {name} has no unit attribute (a table made before units: remake it)")
+                    unit = granflow_units.times_power(text(f[name].attrs["unit"]), "T", power)
+                    if units.setdefault(obs, unit) != unit:
+                        raise ValueError(f"{path}: {name} is in {unit}, other tables give {obs} in {units[obs]}")
+                    if np.atleast_1d(f[name][()]).shape[0] != len(inputs):
+                        raise ValueError(f"{path}: {name} has not one row per input run ({len(inputs)})")
                     value = float(np.atleast_1d(f[name][()])[i]) / rate**power
                     err = float(np.atleast_1d(f[error][()])[i]) / rate**power if error and error in f else math.nan
                     entry[obs] = (value, err)
@@ -409,7 +422,7 @@ def read_rows(paths):
             "the runs mix contact activations (" + ", ".join(f"{k}: {example[k]}" for k in kinds) + "); "
             "study one per convergence.py call"
         )
-    return rows, (kinds[0] if kinds else "predicted-gap")
+    return rows, (kinds[0] if kinds else "predicted-gap"), units
 
 
 # ------------------------------------------------------------------ output
@@ -504,7 +517,7 @@ def main():
         if out and any(os.path.abspath(out) == os.path.abspath(t) for t in args.tables):
             ap.error(f"{out}: the output is also an input")
     try:
-        rows, activation = read_rows(args.tables)
+        rows, activation, units = read_rows(args.tables)
     except (OSError, KeyError, ValueError) as err:
         print(f"convergence.py: {err}", file=sys.stderr)
         return 2
@@ -559,21 +572,26 @@ def main():
     }
     with outputs.table(args.output, __file__, command_line, params, inputs) as f:
         cols = {k: [] for k in ("grains", "packing_fraction", "restitution", "friction", "tolerance", "step",
-                                "observable", "value", "error")}
+                                "observable", "unit", "value", "error")}
         for key in sorted(series):
             for step in sorted(series[key], reverse=True):
                 for obs, (value, error) in series[key][step].items():
-                    for name, v in zip(cols, (*key, step, obs, value, error)):
+                    for name, v in zip(cols, (*key, step, obs, units[obs], value, error)):
                         cols[name].append(v)
-        outputs.column_group(f, "series", cols, integers=("grains",))
+        # Values, errors and limits are in each row's unit (its observable's); the rest are numbers.
+        in_row_unit = ("value", "error", "default_value", "default_error", "finest_value", "finest_error", "limit",
+                       "limit_error")
+        outputs.column_group(f, "series", cols, {c: "unit" if c in in_row_unit else "1" for c in cols},
+                             integers=("grains",))
         ccols = {}
         for key in sorted(classes):
             for obs, c in classes[key].items():
                 entry = {"grains": key[0], "packing_fraction": key[1], "restitution": key[2], "friction": key[3],
-                         "observable": obs, **c}
+                         "observable": obs, "unit": units[obs], **c}
                 for name, v in entry.items():
                     ccols.setdefault(name, []).append(v)
-        outputs.column_group(f, "classes", ccols, integers=("grains", "steps"))
+        outputs.column_group(f, "classes", ccols, {c: "unit" if c in in_row_unit else "1" for c in ccols},
+                             integers=("grains", "steps"))
     if args.markdown:
         outputs.write_text(args.markdown, markdown(series, classes, args.default_step, args.tolerance, observables,
                                                    activation))

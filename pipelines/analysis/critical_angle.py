@@ -155,10 +155,12 @@ def write_table(output, rows, result, args, command_line):
     ) as f:
         runs = f["runs"]
         outputs.text_dataset(runs, "state", [r["state"] for r in rows])
+        runs["state"].attrs["meaning"] = MEANINGS["state"]
         for col in MEANINGS:
             if col != "state":
-                runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-            runs[col].attrs["meaning"] = MEANINGS[col]
+                # Velocities are in √(g⟨R⟩), numbers: only the angle has a unit.
+                outputs.column(runs, col, [r[col] for r in rows], "deg" if col == "angle" else "1", MEANINGS[col],
+                               dtype=None)
         g = f.create_group("critical_angle")
         g.attrs.update(result)
         g.attrs["meaning"] = (

@@ -55,17 +55,28 @@ DEFAULT_THRESHOLD = 1e-2
 DEFAULT_GAP = 0.1
 # The sweep: threshold · 10^(k/4), k = −4 … 4.
 SWEEP_EXPONENTS = np.arange(-4, 5) / 4.0
-MAP_COLUMNS = (
-    "strain",
-    "start_strain",
-    "end_strain",
-    "reference_frame",
-    "current_frame",
-    "grains",
-    "valid_count",
-    "mean_diameter",
-    "offset",
-)
+# Per-map columns of /maps: (unit, meaning).
+MAP_COLUMNS = {
+    "strain": ("1", "strain from the reference to the current frame (/d2min attribute strain)"),
+    "start_strain": ("1", "strain at the reference frame, as given by --start-strain"),
+    "end_strain": ("1", "start_strain + strain"),
+    "reference_frame": ("1", "index of the reference frame (-1: not recorded)"),
+    "current_frame": ("1", "index of the current frame (-1: not recorded)"),
+    "grains": ("1", "grains in the map"),
+    "valid_count": ("1", "grains whose fit is not singular"),
+    "mean_diameter": ("L", "⟨d⟩, the map's mean diameter"),
+    "offset": ("L", "the reference frame's Lees–Edwards offset δ"),
+}
+# The per-map statistics of /default and /sweep.
+STATISTIC_MEANINGS = {
+    "black_count": "black grains",
+    "black_fraction": "fraction of the valid grains that are black",
+    "cluster_count": "black clusters",
+    "largest_cluster": "grains in the largest black cluster",
+    "mean_cluster_size": "mean grains per black cluster",
+    "jaccard": "Jaccard index of the first map's black set and this map's",
+    "jaccard_chance": "the Jaccard index of independent random sets of the same fractions",
+}
 
 
 def read_map(path):
@@ -245,36 +256,37 @@ def write(output, paths, maps, threshold, gap, thresholds, default, sweep, comma
         g = f.create_group("maps")
         outputs.text_dataset(g, "label", labels)
         outputs.text_dataset(g, "current_source", [m["current_source"] for m in maps])
-        for col in MAP_COLUMNS:
-            g.create_dataset(col, data=np.array([m[col] for m in maps]))
-        g.create_dataset("box", data=np.array([m["box"] for m in maps]))
-        g.create_dataset("position", data=np.array([m["position"] for m in maps]))
-        g.create_dataset("radius", data=np.array([m["radius"] for m in maps]))
-        g.create_dataset("d2min_scaled", data=np.array([m["scaled"] for m in maps]))
+        for col, (unit, meaning) in MAP_COLUMNS.items():
+            outputs.column(g, col, [m[col] for m in maps], unit, meaning, dtype=None)
+        outputs.column(g, "box", [m["box"] for m in maps], "L", "[map, 2]: the reference frame's box L_x, L_y")
+        outputs.column(g, "position", [m["position"] for m in maps], "L", "[map, grain, 2]: centres in the reference frame")
+        outputs.column(g, "radius", [m["radius"] for m in maps], "L", "[map, grain]: radii")
+        outputs.column(g, "d2min_scaled", [m["scaled"] for m in maps], "1",
+                       "[map, grain]: D²min per neighbour / ⟨d⟩², NaN where the fit is singular")
         sets, per_map, overlaps = default
-        g.create_dataset("black", data=np.array(sets, dtype=np.uint8))
+        outputs.column(g, "black", sets, "1", "[map, grain]: 1 if the grain is black at the threshold", dtype=np.uint8)
         d = f.create_group("default")
         d.attrs["threshold"] = threshold
         for name in ("black_count", "black_fraction", "cluster_count", "largest_cluster", "mean_cluster_size"):
-            d.create_dataset(name, data=np.array([r[name] for r in per_map]))
+            outputs.column(d, name, [r[name] for r in per_map], "1", f"[map]: {STATISTIC_MEANINGS[name]}", dtype=None)
         width = max([1] + [len(r["sizes"]) and int(r["sizes"].max()) for r in per_map])
         hist = np.zeros((len(maps), width), dtype=np.int64)
         for k, r in enumerate(per_map):
             if len(r["sizes"]):
                 hist[k, : int(r["sizes"].max())] = np.bincount(r["sizes"])[1:]
-        d.create_dataset("cluster_size_histogram", data=hist)
-        d["cluster_size_histogram"].attrs["meaning"] = "[map, s]: number of black clusters of s + 1 grains"
+        outputs.column(d, "cluster_size_histogram", hist, "1", "[map, s]: number of black clusters of s + 1 grains",
+                       dtype=np.int64)
         outputs.text_dataset(d, "pair", [f"a-{x}" for x in labels[1:]])
-        d.create_dataset("jaccard", data=np.array([o[0] for o in overlaps], dtype=float))
-        d.create_dataset("jaccard_chance", data=np.array([o[1] for o in overlaps], dtype=float))
-        s = f.create_group("sweep")
-        s.create_dataset("threshold", data=thresholds)
-        for name in ("black_fraction", "cluster_count", "largest_cluster", "mean_cluster_size"):
-            s.create_dataset(name, data=np.array([[t[0][k][name] for t in sweep] for k in range(len(maps))]))
         for k, name in enumerate(("jaccard", "jaccard_chance")):
-            s.create_dataset(
-                name, data=np.array([[t[1][p][k] for t in sweep] for p in range(len(maps) - 1)], dtype=float)
-            )
+            outputs.column(d, name, [o[k] for o in overlaps], "1", f"[pair]: {STATISTIC_MEANINGS[name]}")
+        s = f.create_group("sweep")
+        outputs.column(s, "threshold", thresholds, "1", "[K]: the thresholds swept, in ⟨d⟩²")
+        for name in ("black_fraction", "cluster_count", "largest_cluster", "mean_cluster_size"):
+            outputs.column(s, name, [[t[0][k][name] for t in sweep] for k in range(len(maps))], "1",
+                           f"[map, K]: {STATISTIC_MEANINGS[name]}", dtype=None)
+        for k, name in enumerate(("jaccard", "jaccard_chance")):
+            outputs.column(s, name, [[t[1][p][k] for t in sweep] for p in range(len(maps) - 1)], "1",
+                           f"[pair, K]: {STATISTIC_MEANINGS[name]}")
 
 
 def read_table(path):

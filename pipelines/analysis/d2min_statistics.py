@@ -106,13 +106,12 @@ def main():
     parameters = {"threshold": args.threshold, "gap": args.gap, "pairs": pairs, "maps": ",".join(args.maps)}
     with outputs.table(args.output, os.path.abspath(__file__), shlex.join(sys.argv), parameters, [source]) as f:
         runs = f["runs"]
-        runs.create_dataset("interval", data=np.array([interval]))
-        runs["interval"].attrs["meaning"] = "strain of each map's interval"
+        # Every statistic is a number (D²min is scaled by the mean diameter²).
+        outputs.column(runs, "interval", [interval], "1", "strain of each map's interval")
         for name, meaning in STATISTICS:
-            runs.create_dataset(name, data=np.array([result[name]]))
-            runs[name].attrs["meaning"] = meaning
-            runs.create_dataset(name + "_error", data=np.array([result[name + "_error"]]))
-            runs[name + "_error"].attrs["meaning"] = "standard error of the mean over the pairs"
+            outputs.column(runs, name, [result[name]], "1", meaning, dtype=None)
+            outputs.column(runs, name + "_error", [result[name + "_error"]], "1",
+                           "standard error of the mean over the pairs", dtype=None)
 
 
 if __name__ == "__main__":

@@ -260,6 +260,21 @@ MEANINGS = {
     "surface_velocity": "V_s of the fit from the base skip to the surface, in √(g⟨R⟩)",
     "power_law_exponent": "b of V_x ∝ y^b, bulk layers",
 }
+# The unit string of each column with a unit; the others (velocities in √(g⟨R⟩) among them) are numbers.
+UNITS = {
+    "angle": "deg",
+    "layer_length": "L",
+    "mean_radius": "L",
+    "mean_mass": "M",
+    "tau": "T",
+    "gravity": "L T-2",
+    "time": "tau",
+    "steady_from_tau": "tau",
+    "start_time": "tau",
+    "surface_height": "L",
+    "bulk_from": "L",
+    "bulk_to": "L",
+}
 for _n, _label in BULK.items():
     MEANINGS[_n] = f"{_label}: mean over the bulk layers"
     MEANINGS[_n + "_error"] = f"{_label}: standard error of that mean from the scatter of the bulk layers"
@@ -295,19 +310,17 @@ def write_table(output, rows, base_skip, surface_skip, command_line):
             "file the run started from (its /parameters input): a pack or, for a " "branch, the parent run"
         )
         for col in RUN_COLUMNS:
-            runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-            runs[col].attrs["meaning"] = RUN_MEANINGS.get(col, f"the run's parameter or /profiles attribute '{col}'")
+            outputs.column(runs, col, [r[col] for r in rows], UNITS.get(col, "1"),
+                           RUN_MEANINGS.get(col, f"the run's parameter or /profiles attribute '{col}'"), dtype=None)
         for col, meaning in (
             ("start_time", "time (τ) of the parent's frame the run started from (0: a pack)"),
             ("start_friction", "friction of the parent run (NaN: started from a pack)"),
         ):
-            runs.create_dataset(col, data=np.array([r[col] for r in rows]))
-            runs[col].attrs["meaning"] = meaning
+            outputs.column(runs, col, [r[col] for r in rows], UNITS.get(col, "1"), meaning, dtype=None)
         for group, names in GROUPS.items():
             g = f.require_group(group)
             for name in names:
-                g.create_dataset(name, data=np.array([r[name] for r in rows]))
-                g[name].attrs["meaning"] = MEANINGS[name]
+                outputs.column(g, name, [r[name] for r in rows], UNITS.get(name, "1"), MEANINGS[name], dtype=None)
 
 
 def read_table(path):

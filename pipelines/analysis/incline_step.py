@@ -139,15 +139,17 @@ def main(argv=None):
                 for obs, _ in labels:
                     for name, v in zip(cols, (*key, h, obs, *series[key][h][obs])):
                         cols[name].append(v)
-        outputs.column_group(f, "series", cols)
+        # Every observable is a number (velocities in √(g⟨R⟩), the step dt/τ); the angle is in degrees.
+        outputs.column_group(f, "series", cols, {c: "deg" if c == "angle" else "1" for c in cols})
         rows = [(key, obs, classes[key][obs]) for key in sorted(classes) for obs, _ in labels]
-        outputs.column_group(f, "classes", {
+        ccols = {
             "angle": [k[0] for k, _, _ in rows],
             "friction": [k[1] for k, _, _ in rows],
             "observable": [o for _, o, _ in rows],
             "class": [c["class"] for _, _, c in rows],
             **{column: [c[column] for _, _, c in rows] for column in CLASS_COLUMNS},
-        })
+        }
+        outputs.column_group(f, "classes", ccols, {c: "deg" if c == "angle" else "1" for c in ccols})
     if args.markdown:
         outputs.write_text(args.markdown, markdown(series, classes, args.default_step, labels))
     return 0

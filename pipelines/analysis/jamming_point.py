@@ -214,16 +214,16 @@ def write_table(output, rows, skipped, args, inputs, command_line):
                        [(p, sha256(p)) for p in inputs]) as f:
         fits = f.create_group("fits")
         outputs.text_dataset(fits, "quantity", [r["quantity"] for r in rows])
+        fits["quantity"].attrs["meaning"] = MEANINGS["quantity"]
+        # Every column is a number: the quantities fitted (QUANTITIES) are dimensionless.
         for col, meaning in MEANINGS.items():
             if col != "quantity":
-                fits.create_dataset(col, data=np.array([r[col] for r in rows]))
-            fits[col].attrs["meaning"] = meaning
+                outputs.column(fits, col, [r[col] for r in rows], "1", meaning, dtype=None)
         few = f.create_group("skipped")
         for k, (col, meaning) in enumerate((("friction", "μ of a group not fitted"),
                                             ("restitution", "its e"),
                                             ("points", f"its runs at ν >= from_nu (fewer than {MIN_POINTS})"))):
-            few.create_dataset(col, data=np.array([s[k] for s in skipped], dtype=int if col == "points" else float))
-            few[col].attrs["meaning"] = meaning
+            outputs.column(few, col, [s[k] for s in skipped], "1", meaning, dtype=int if col == "points" else float)
 
 
 def main():

@@ -256,10 +256,13 @@ def main(argv=None):
         {"default_step": args.default_step, "threshold": threshold},
         [(path, sha256(path)) for path in args.tables],
     ) as f:
+        # Every column is a number (γ̇dt, ν, e, μ, ratios, counts).
         for name, rows in (("crossover", crossovers), ("runs_by_step", runs)):
-            outputs.column_group(f, name, {column: [r[column] for r in rows] for column in (rows[0] if rows else ())})
+            outputs.column_group(f, name, {column: [r[column] for r in rows] for column in (rows[0] if rows else ())},
+                                 "1")
         columns = ("restitution", "friction", "class") + CLASS_COLUMNS
-        outputs.column_group(f, "classes", {column: [c[column] for c in cls] for column in columns} if cls else {})
+        outputs.column_group(f, "classes", {column: [c[column] for c in cls] for column in columns} if cls else {},
+                             "1")
     if args.markdown:
         outputs.write_text(args.markdown, markdown(by_step, crossovers, cls, runs, args.default_step, threshold))
     if args.figure:

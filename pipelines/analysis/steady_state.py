@@ -43,8 +43,8 @@ strain_step, strain, dt, grains, seed, mean_radius, mean_mass, samples, steady_f
 strain the average starts at), halves_z, stationary; /steady/<name>,
 /steady/<name>_error, /steady/<name>_plateau [rows] for every name of QUANTITIES;
 /diagnostics/{solver_iterations_mean, solver_residual_max, max_overlap_max} over the
-steady part. Steady and diagnostic datasets carry `meaning` and `units` attributes; run
-columns name the gf-shear parameter they copy.
+steady part. Every dataset carries `meaning` and `unit` (H5MD) attributes; run columns' meanings name
+the gf-shear parameter they copy.
 """
 import argparse
 import math
@@ -68,7 +68,7 @@ MIN_SAMPLES = 32  # steady rows a run must have
 TRANSIENT_BLOCKS = 100  # block means MSER looks at (fewer for shorter runs: a row each)
 STATIONARY_SIGMAS = 3  # largest difference between the halves' means, in combined errors
 MIN_BLOCKS = 16  # fewest blocks an error is read from (its relative uncertainty is then ~18 %)
-STRESS = "mass/time^2 (2D stress, code units)"
+STRESS = "M T-2"  # a 2D stress: force per length
 
 # Series read from /observables (scalar ones by name; tensors reduced to a pressure).
 SCALAR_OBSERVABLES = (
@@ -101,17 +101,19 @@ RUN_COLUMNS = {
     "mean_radius": "mean_radius",
     "mean_mass": "mean_mass",
 }
+# The unit string of each run column (the others are numbers, "1").
+RUN_UNITS = {"rate": "T-1", "dt": "T", "mean_radius": "L", "mean_mass": "M"}
 
 
 def _rate2_mass(p):
     return 1.0 / (p["rate"] ** 2 * p["mean_mass"])
 
 
-# name -> (meaning, units, constant factor c(parameters), {series: power}): Q = c * prod <x>^a.
+# name -> (meaning, unit, constant factor c(parameters), {series: power}): Q = c * prod <x>^a.
 QUANTITIES = {
     "pressure": ("p = (Σxx+Σyy)/2, total", STRESS, lambda p: 1.0, {"pressure": 1}),
     "shear_stress": ("s = -Σxy", STRESS, lambda p: 1.0, {"shear_stress": 1}),
-    "temperature": ("T of eq. 4.5", "velocity^2", lambda p: 1.0, {"temperature": 1}),
+    "temperature": ("T of eq. 4.5", "L+2 T-2", lambda p: 1.0, {"temperature": 1}),
     "pressure_kinetic": (
         "p^k: half trace of the kinetic stress (first term of eq. 4.6)",
         STRESS,
@@ -158,8 +160,8 @@ QUANTITIES = {
 }
 DIAGNOSTICS = {
     "solver_iterations_mean": ("mean solver iterations per step", "1"),
-    "solver_residual_max": ("largest solver residual", "velocity (code units)"),
-    "max_overlap_max": ("largest overlap", "length (code units)"),
+    "solver_residual_max": ("largest solver residual", "L T-1"),
+    "max_overlap_max": ("largest overlap", "L"),
 }
 
 
@@ -300,44 +302,30 @@ def write_table(output, rows, from_strain, command_line, detect_transient=False)
     with outputs.table(output, os.path.abspath(__file__), command_line, parameters, [(r[0], r[1]) for r in rows]) as f:
         runs = f["runs"]
         for col, attr in RUN_COLUMNS.items():
-            ds = runs.create_dataset(col, data=np.array([r[2][col] for r in rows]))
-            ds.attrs["meaning"] = f"the run's /parameters attribute '{attr}'"
-        runs.create_dataset("samples", data=np.array([r[5] for r in rows], dtype=np.int64))
-        runs["samples"].attrs["meaning"] = "observable rows averaged (strain >= steady_from)"
-        for col, k, meaning in (
-            (
-                "steady_from",
-                0,
-                f"strain the steady part starts at (>= {from_strain}; "
-                + ("MSER on T and p" if detect_transient else "fixed")
-                + ")",
-            ),
-            (
-                "halves_z",
-                1,
-                "larger |difference| of the means of T and of p between the steady "
-                "part's halves, in combined blocking errors",
-            ),
-        ):
-            runs.create_dataset(col, data=np.array([r[6][k] for r in rows], dtype=float))
-            runs[col].attrs["meaning"] = meaning
-        runs.create_dataset("stationary", data=np.array([r[6][1] <= STATIONARY_SIGMAS for r in rows], dtype=np.uint8))
-        runs["stationary"].attrs["meaning"] = f"1 if halves_z <= {STATIONARY_SIGMAS}"
+            outputs.column(runs, col, [r[2][col] for r in rows], RUN_UNITS.get(col, "1"),
+                           f"the run's /parameters attribute '{attr}'", dtype=None)
+        outputs.column(runs, "samples", [r[5] for r in rows], "1", "observable rows averaged (strain >= steady_from)",
+                       dtype=np.int64)
+        outputs.column(runs, "steady_from", [r[6][0] for r in rows], "1",
+                       f"strain the steady part starts at (>= {from_strain}; "
+                       + ("MSER on T and p" if detect_transient else "fixed") + ")")
+        outputs.column(runs, "halves_z", [r[6][1] for r in rows], "1",
+                       "larger |difference| of the means of T and of p between the steady part's halves, in "
+                       "combined blocking errors")
+        outputs.column(runs, "stationary", [r[6][1] <= STATIONARY_SIGMAS for r in rows], "1",
+                       f"1 if halves_z <= {STATIONARY_SIGMAS}", dtype=np.uint8)
         steady = f.create_group("steady")
-        for name, (meaning, units, _, _) in QUANTITIES.items():
+        for name, (meaning, unit, _, _) in QUANTITIES.items():
             for suffix, col, what in (
                 ("", 0, "steady-state value"),
                 ("_error", 1, ERROR_METHOD),
-                ("_plateau", 2, "1 if blocking reached a plateau, else the error " "is a lower bound"),
+                ("_plateau", 2, "1 if blocking reached a plateau, else the error is a lower bound"),
             ):
-                ds = steady.create_dataset(
-                    name + suffix, data=np.array([r[3][name][col] for r in rows], dtype=np.uint8 if col == 2 else float)
-                )
-                ds.attrs.update({"meaning": f"{meaning}: {what}", "units": units if col < 2 else "1"})
+                outputs.column(steady, name + suffix, [r[3][name][col] for r in rows], unit if col < 2 else "1",
+                               f"{meaning}: {what}", dtype=np.uint8 if col == 2 else float)
         diag = f.create_group("diagnostics")
-        for name, (meaning, units) in DIAGNOSTICS.items():
-            ds = diag.create_dataset(name, data=np.array([r[4][name] for r in rows]))
-            ds.attrs.update({"meaning": meaning + " over the steady part", "units": units})
+        for name, (meaning, unit) in DIAGNOSTICS.items():
+            outputs.column(diag, name, [r[4][name] for r in rows], unit, meaning + " over the steady part", dtype=None)
 
 
 def read_table(path):

@@ -160,9 +160,9 @@ class ActivationTest(unittest.TestCase):
                 self.write_run(f"{d}/{name}.h5", activation)
                 self.write_table(f"{d}/t_{name}.h5", f"{d}/{name}.h5")
             # A run made before the option is a predicted-gap run.
-            rows, activation = convergence.read_rows([f"{d}/t_old.h5", f"{d}/t_gap.h5"])
+            rows, activation, _ = convergence.read_rows([f"{d}/t_old.h5", f"{d}/t_gap.h5"])
             self.assertEqual(activation, "predicted-gap")
-            rows, activation = convergence.read_rows([f"{d}/t_overlap.h5"])
+            rows, activation, _ = convergence.read_rows([f"{d}/t_overlap.h5"])
             self.assertEqual(activation, "overlap")
             with self.assertRaisesRegex(ValueError, "mix contact activations"):
                 convergence.read_rows([f"{d}/t_gap.h5", f"{d}/t_overlap.h5"])

@@ -9,7 +9,7 @@ import unittest
 import h5py
 import numpy as np
 
-from granflow import outputs
+from granflow import outputs, units
 from granflow.disks import periodic_images
 from granflow.hdf5 import read_attrs, read_group, sha256
 
@@ -68,7 +68,7 @@ class TableTest(unittest.TestCase):
         with outputs.table(
             out, self.script, "maker.py -o table.h5 a.h5", {"window": 2.5}, [("a.h5", "00ff"), ("b.h5", "ff00")]
         ) as f:
-            f["runs"].create_dataset("x", data=[1.0, 2.0])
+            outputs.column(f["runs"], "x", [1.0, 2.0], "L T-1", "a velocity")
         table = outputs.read_table(out, ("runs",))
         self.assertEqual(
             table["parameters"],
@@ -90,6 +90,58 @@ class TableTest(unittest.TestCase):
                 raise RuntimeError("analysis failed")
         self.assertEqual(os.listdir(self.d), ["maker.py"])
         self.assertEqual(glob.glob(os.path.join(self.d, ".*")), [])
+
+    def test_units_as_h5md_asks(self):
+        out = os.path.join(self.d, "table.h5")
+        with outputs.table(out, self.script, "", {}, []) as f:
+            outputs.column(f["runs"], "x", [1.0, 2.0], "M T-2", "a 2D stress")
+            outputs.column_group(f, "long", {"name": ["p", "a0"], "unit": ["M T-2", "rad"], "value": [3.0, 0.5],
+                                             "step": [1e-3, 1e-3]}, {"value": "unit", "step": "1"})
+        with h5py.File(out, "r") as f:
+            x = f["runs/x"]
+            kind = x.attrs.get_id("unit").get_type()
+            self.assertFalse(kind.is_variable_str())
+            self.assertEqual(kind.get_cset(), h5py.h5t.CSET_ASCII)
+            self.assertEqual(x.attrs["unit"], b"M T-2")
+            self.assertEqual(f["long/value"].attrs[units.ROW_UNIT], "unit")
+            self.assertNotIn("unit", f["long/value"].attrs)
+            self.assertEqual(f["long/step"].attrs["unit"], b"1")
+            self.assertEqual(units.table_problems(f), [])
+
+    def test_no_table_with_a_number_without_a_valid_unit(self):
+        out = os.path.join(self.d, "table.h5")
+        for name, write in (
+            ("no unit", lambda f: f["runs"].create_dataset("x", data=[1.0])),
+            ("misspelt", lambda f: f["runs"].create_dataset("x", data=[1.0]).attrs.create("unit", np.bytes_(b"Lx"))),
+            ("variable-length", lambda f: f["runs"].create_dataset("x", data=[1.0]).attrs.update({"unit": "L"})),
+            ("bad row unit", lambda f: outputs.column_group(f, "long", {"unit": ["L", "m"], "value": [1.0, 2.0]},
+                                                            {"value": "unit"})),
+        ):
+            with self.subTest(name):
+                with self.assertRaisesRegex(ValueError, "without a valid unit: /"):
+                    with outputs.table(out, self.script, "", {}, []) as f:
+                        write(f)
+                self.assertEqual(sorted(os.listdir(self.d)), ["maker.py"])
+        with self.assertRaisesRegex(ValueError, "unknown symbol 'K'"):
+            with outputs.table(out, self.script, "", {}, []) as f:
+                outputs.column(f["runs"], "x", [1.0], "K", "a temperature in kelvin")
+
+
+class UnitsTest(unittest.TestCase):
+    def test_grammar(self):
+        for good in ("1", "L", "L T-1", "M L+2 T-2", "0.5 L", "1.4 L", "tau-1", "rad", "deg", "2+3 L"):
+            self.assertIsNone(units.problem(good), good)
+        for bad in ("", "L  T", "T L T", "L T1", "L T+0", "L 2", "m", "L^2", "velocity", None):
+            self.assertIsNotNone(units.problem(bad), bad)
+
+    def test_times_power(self):
+        self.assertEqual(units.times_power("T-1", "T", 1), "1")
+        self.assertEqual(units.times_power("L", "T", -1), "L T-1")
+        self.assertEqual(units.times_power("1", "T", 2), "T+2")
+        self.assertEqual(units.times_power("M T-2", "T", 2), "M")
+        self.assertEqual(units.times_power("0.5 L T-1", "T", 1), "0.5 L")
+        with self.assertRaises(ValueError):
+            units.times_power("velocity", "T", 1)
 
 
 class TextTest(unittest.TestCase):

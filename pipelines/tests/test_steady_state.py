@@ -265,7 +265,11 @@ class TableTest(unittest.TestCase):
         np.testing.assert_array_equal(table["steady"]["pressure_plateau"], [1, 1])
         np.testing.assert_allclose(table["steady"]["s_over_p"], 0.3)
         with h5py.File(out, "r") as f:
-            self.assertIn("units", f["steady/pressure_scaled"].attrs)
+            self.assertEqual(f["steady/pressure_scaled"].attrs["unit"], b"1")
+            self.assertEqual(f["steady/pressure"].attrs["unit"], b"M T-2")
+            self.assertEqual(f["steady/pressure_error"].attrs["unit"], b"M T-2")
+            self.assertEqual(f["steady/temperature"].attrs["unit"], b"L+2 T-2")
+            self.assertEqual(f["runs/rate"].attrs["unit"], b"T-1")
             self.assertIn("meaning", f["steady/pressure_scaled_error"].attrs)
         np.testing.assert_array_equal(ss.select(table, friction=0.0), [1, 0])
         np.testing.assert_array_equal(ss.select(table, restitution=0.0), [0])

@@ -8,6 +8,7 @@ import tempfile
 import h5py
 import numpy as np
 
+from granflow import units
 from granflow.hdf5 import read_attrs, read_group, sha256
 
 
@@ -50,16 +51,33 @@ def write_text(path, text):
         out.abandon()
 
 
-def column_group(parent, name, columns, integers=()):
+def column(group, name, values, unit, meaning, dtype=float):
+    """A dataset `name` of `group` holding `values` (as `dtype`), with its `unit` (a unit
+    string, granflow.units) and `meaning` attributes."""
+    dataset = group.create_dataset(name, data=np.asarray(values, dtype=dtype))
+    units.write(dataset, unit)
+    dataset.attrs["meaning"] = meaning
+    return dataset
+
+
+def column_group(parent, name, columns, column_units, integers=()):
     """Group `name` of `parent` with one dataset per column of `columns` ({column: values}): a
-    column of strings as text, the columns named in `integers` as int64, the others as float."""
+    column of strings as text, the columns named in `integers` as int64, the others as float.
+    `column_units` gives each numeric column's unit string ({column: unit}, or one unit string
+    for all); a unit that names a string column of the group (a long table's per-row units)
+    gives the column that unit row by row (granflow.units.ROW_UNIT)."""
     group = parent.create_group(name)
     for column, values in columns.items():
         values = list(values)
         if values and isinstance(values[0], str):
             text_dataset(group, column, values)
+            continue
+        dataset = group.create_dataset(column, data=np.asarray(values, dtype=np.int64 if column in integers else float))
+        unit = column_units if isinstance(column_units, str) else column_units[column]
+        if unit in columns:
+            dataset.attrs[units.ROW_UNIT] = unit
         else:
-            group.create_dataset(column, data=np.asarray(values, dtype=np.int64 if column in integers else float))
+            units.write(dataset, unit)
     return group
 
 
@@ -74,7 +92,9 @@ def table(output, script, command_line, parameters, inputs):
     provenance every table carries, so that a table says what made it from what:
     /parameters attributes program (the script's file name), script_sha256, command_line, then
     `parameters` (the script's settings, in order); /runs/input and /runs/input_sha256, one row
-    per (path, sha256) of `inputs`. The file is renamed into place when the block completes."""
+    per (path, sha256) of `inputs`. The file is renamed into place when the block completes and
+    every numeric dataset has a valid unit (granflow.units: ValueError naming those without, and
+    nothing written)."""
     out = atomic_output(output)
     try:
         with h5py.File(out.name, "w") as f:
@@ -90,6 +110,9 @@ def table(output, script, command_line, parameters, inputs):
             text_dataset(runs, "input", [path for path, _ in inputs])
             text_dataset(runs, "input_sha256", [digest for _, digest in inputs])
             yield f
+            problems = units.table_problems(f)
+        if problems:
+            raise ValueError(f"{output}: datasets without a valid unit: " + "; ".join(problems))
         out.commit()
     finally:
         out.abandon()

@@ -6,14 +6,15 @@ their layouts are in docs/file-format.md, "Analysis tables".
     table = granflow.read_table("runs/quick/ch4_sweep.h5")
     nu = table["runs/packing_fraction"].values          # a NumPy array
     p = table["steady"]["pressure"]                      # a Column
-    p.values, p.units, p.meaning                         # array, "mass/time^2 (…)", "p = …"
-    print(table.describe())                              # every dataset with units and meaning
+    p.values, p.unit, p.meaning                          # array, "M T-2", "p = …"
+    print(table.describe())                              # every dataset with its unit and meaning
 
 A table is read whole when opened (tables are small: one row per run) and the file closed.
-Strings (input paths, kinds) are arrays of str. `units`, `unit` and `meaning` are the
-datasets' attributes of those names, None where a dataset has none: `units` the quantity in
-words ("force/length"), `unit` its H5MD unit string ("M T-2", docs/file-format.md, Units;
-the programs' tables have it, the scripts' not yet)."""
+Strings (input paths, kinds) are arrays of str. `unit`, `units` and `meaning` are the
+datasets' attributes of those names, None where a dataset has none: `unit` the H5MD unit
+string ("M T-2", docs/file-format.md, Units; every numeric dataset has one, or, in a long
+table, `unit_column` names the column of each row's unit), `units` the quantity in words
+("force/length", the programs' tables only)."""
 from collections.abc import Mapping
 
 import h5py
@@ -23,7 +24,7 @@ from granflow.hdf5 import read_attrs, read_dataset
 
 class Column:
     """One dataset of a table: name (its path in the file, e.g. "runs/packing_fraction"),
-    values (a NumPy array; strings as str), units, unit and meaning (its attributes, None
+    values (a NumPy array; strings as str), unit, units and meaning (its attributes, None
     where absent) and attrs (all its attributes, strings as text). np.asarray(column) is its values."""
 
     def __init__(self, name, values, attrs):
@@ -47,8 +48,8 @@ class Column:
         return len(self.values)
 
     def __repr__(self):
-        units = f" [{self.units}]" if self.units else ""
-        return f"Column({self.name!r}{units}, shape={self.values.shape}, dtype={self.values.dtype})"
+        unit = f" [{self.unit}]" if self.unit else ""
+        return f"Column({self.name!r}{unit}, shape={self.values.shape}, dtype={self.values.dtype})"
 
 
 class Group(Mapping):
@@ -97,13 +98,13 @@ class Group(Mapping):
                 yield member
 
     def describe(self):
-        """A text listing of every dataset below this group, one a line: path, shape, [units]
+        """A text listing of every dataset below this group, one a line: path, shape, [unit]
         and meaning (each where the dataset has them)."""
         lines = []
         for c in self.walk():
-            units = f" [{c.units}]" if c.units else ""
+            unit = f" [{c.unit}]" if c.unit else ""
             meaning = f": {c.meaning}" if c.meaning else ""
-            lines.append(f"{c.name} {c.values.shape}{units}{meaning}")
+            lines.append(f"{c.name} {c.values.shape}{unit}{meaning}")
         return "\n".join(lines)
 
     def __repr__(self):

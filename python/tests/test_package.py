@@ -204,7 +204,11 @@ class TablesTest(Runs, unittest.TestCase):
                         self.assertEqual(column.unit, hdf5.read_attrs(ds).get("unit"), name)
                         self.assertEqual(column.meaning, hdf5.read_attrs(ds).get("meaning"), name)
                         self.assertTrue(any(line.startswith(name + " ") for line in described), name)
-                        # The programs' tables give every dataset a meaning, every number units.
+                        # Every table gives every number a unit; the programs' tables every
+                        # dataset a meaning and every number its unit in words too.
+                        if column.values.dtype.kind in "iuf":
+                            self.assertIsNotNone(column.unit, name)
+                            self.assertIn(f"[{column.unit}]", next(l for l in described if l.startswith(name + " ")))
                         if kind.startswith("gf-"):
                             self.assertIsNotNone(column.meaning, name)
                             if column.values.dtype.kind in "iuf":
@@ -222,6 +226,7 @@ class TablesTest(Runs, unittest.TestCase):
         self.assertIs(table["runs/p_static"], runs["p_static"])
         self.assertIn("runs/p_static", table)
         self.assertEqual(runs["p_static"].units, "mass/time^2")
+        self.assertEqual(runs["p_static"].unit, "M T-2")
         self.assertEqual(list(runs["input"].values), self.runs)
         self.assertEqual(set(runs.arrays()), set(runs.columns()))
         with self.assertRaisesRegex(KeyError, "/runs has no 'nothing'"):

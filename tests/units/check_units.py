@@ -1,23 +1,23 @@
 """units.EveryDataset: every dataset of every program's output has a valid H5MD `unit`.
 
 Runs each built program on small inputs (python/tests/programs.py: 64-grain packings and
-short gf-shear runs; a small incline), then walks every HDF5 file they wrote with h5py and
-fails, naming the file and the dataset, on a numeric dataset without a `unit` attribute (a
-scalar fixed-length ASCII string, as H5MD asks) or whose unit is not a unit string of granflow's system (docs/file-format.md, Units):
-unit factors separated by single spaces; at most one number, first, an integer or a decimal
-fraction with an optional signed integer power ("1" for a dimensionless number); symbols
-of the system, each once, with an optional non-zero signed integer power ("L T-1"). String
-datasets (names, labels) have no unit. Every trajectory (a file with /h5md) must declare
-the system in /h5md/modules/units (version [1, 0], system "granflow reduced"), and its
-element times are in "T" (code time), or "tau" for gf-incline's. gf-xdmf writes XML
-only: its HDF5 side is the trajectory, checked as such.
+short gf-shear runs; a small incline), then the pipelines' steady_state.py, d2min_maps.py and
+convergence.py on those outputs, and walks every HDF5 file they wrote with h5py. The rule is
+granflow.units' (docs/file-format.md, Units), the one every table writer obeys: each numeric
+dataset has a `unit` attribute, a scalar fixed-length ASCII string of unit factors separated
+by single spaces (at most one number, first; symbols of the system, each once, with an
+optional non-zero signed integer power: "L T-1"; "1" for a number), or, in a long table whose
+rows hold different quantities, a `unit_column` attribute naming the string column of each
+row's unit. String datasets (names, labels) have no unit. Every trajectory (a file with
+/h5md) must declare the system in /h5md/modules/units (version [1, 0], system "granflow
+reduced"), and its element times are in "T" (code time), or "tau" for gf-incline's. gf-xdmf
+writes XML only: its HDF5 side is the trajectory, checked as such.
 
 The checker then checks itself: on copies of one table and one trajectory with a unit
 removed, a misspelt symbol, a repeated symbol and a missing declaration it must fail.
 
 Usage: check_units.py BIN_DIR (ctest passes the build's bin/). Exit 0 on success."""
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -28,33 +28,7 @@ import h5py
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", ".."))
 
-SYSTEM = "granflow reduced"
-SYMBOLS = {"M", "L", "T", "tau", "rad", "deg"}
-NUMBER = re.compile(r"^[0-9]+(\.[0-9]+)?([+-][0-9]+)?$")
-FACTOR = re.compile(r"^([A-Za-z]+)([+-][1-9][0-9]*)?$")
-
-
-def unit_problem(unit):
-    """Why `unit` is not a unit string of the system, or None if it is one."""
-    if not isinstance(unit, str):
-        return f"unit {unit!r} is not a string"
-    if unit == "":
-        return "empty unit"
-    seen = set()
-    for k, factor in enumerate(unit.split(" ")):
-        if NUMBER.match(factor):
-            if k != 0:
-                return f"number '{factor}' not first in '{unit}'"
-            continue
-        m = FACTOR.match(factor)
-        if not m:
-            return f"'{factor}' in '{unit}' is neither a number nor a symbol with a signed power"
-        if m.group(1) not in SYMBOLS:
-            return f"unknown symbol '{m.group(1)}' in '{unit}'"
-        if m.group(1) in seen:
-            return f"symbol '{m.group(1)}' twice in '{unit}'"
-        seen.add(m.group(1))
-    return None
+from granflow import units  # noqa: E402  (python/, on PYTHONPATH: the rule, in one place)
 
 
 def text(value):
@@ -63,32 +37,17 @@ def text(value):
 
 def problems(path):
     """Every unit problem of one HDF5 file, as 'path: object: problem' lines."""
-    found = []
     with h5py.File(path, "r") as f:
-
-        def visit(name, obj):
-            if not isinstance(obj, h5py.Dataset) or obj.dtype.kind in "SOU":
-                return
-            if "unit" not in obj.attrs:
-                found.append(f"{path}: /{name}: no unit attribute")
-                return
-            kind = obj.attrs.get_id("unit").get_type()
-            if not isinstance(kind, h5py.h5t.TypeStringID) or kind.is_variable_str() or kind.get_cset() != h5py.h5t.CSET_ASCII:
-                found.append(f"{path}: /{name}: unit is not a fixed-length ASCII string")
-            why = unit_problem(text(obj.attrs["unit"]))
-            if why:
-                found.append(f"{path}: /{name}: {why}")
-
-        f.visititems(visit)
+        found = [f"{path}: {line}" for line in units.table_problems(f)]
         if "h5md" in f:
-            units = f.get("h5md/modules/units")
-            if not isinstance(units, h5py.Group):
+            module = f.get("h5md/modules/units")
+            if not isinstance(module, h5py.Group):
                 found.append(f"{path}: no /h5md/modules/units")
             else:
-                if text(units.attrs.get("system")) != SYSTEM:
-                    found.append(f"{path}: /h5md/modules/units system {units.attrs.get('system')!r}, not '{SYSTEM}'")
-                if list(units.attrs.get("version", [])) != [1, 0]:
-                    found.append(f"{path}: /h5md/modules/units version {units.attrs.get('version')!r}, not [1, 0]")
+                if text(module.attrs.get("system")) != units.SYSTEM:
+                    found.append(f"{path}: /h5md/modules/units system {module.attrs.get('system')!r}, not '{units.SYSTEM}'")
+                if list(module.attrs.get("version", [])) != [1, 0]:
+                    found.append(f"{path}: /h5md/modules/units version {module.attrs.get('version')!r}, not [1, 0]")
             program = text(f["parameters"].attrs.get("program", "")) if "parameters" in f else ""
             want = "tau" if program == "gf-incline" else "T"
 
@@ -126,6 +85,22 @@ def outputs(directory):
     programs.run("gf-incline", "-i", slope, "-o", incline, "--angle", "20", "--steps", "200")
     files["gf-pack --incline"], files["gf-incline"] = slope, incline
     programs.run("gf-xdmf", "-i", runs[2])  # XML beside the run; the run is checked above
+    # The pipelines' tables (pipelines/analysis) from the same outputs.
+    analysis = os.path.join(REPO, "pipelines", "analysis")
+
+    def script(name, *args):
+        label = name + ".py"
+        files[label] = os.path.join(directory, name + ".h5")
+        subprocess.run([sys.executable, os.path.join(analysis, label), *args, "-o", files[label]], check=True,
+                       capture_output=True, text=True)
+
+    script("steady_state", "--from-strain", "0.1", *runs)
+    script("d2min_maps", files["gf-stz d2min"], files["gf-stz d2min"])
+    # convergence.py reads per-run correlation tables (ξ_el is one number per table).
+    single = os.path.join(directory, "correlate_single.h5")
+    programs.run("gf-correlate", "--from-strain", "0.1", "--reference", runs[0], "-o", single, runs[2])
+    script("convergence", "--default-step", "1e-3", "--reference", "0.7:0:0", files["steady_state.py"], single,
+           files["gf-network"], files["gf-kinetic"])
     return files
 
 
