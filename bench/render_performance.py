@@ -102,8 +102,7 @@ TABLES = {
     "friction_peer": dict(
         file="peer_friction.csv", keys=["program"],
         columns=[("program", K("program")), ("CPU s, 10 strain units", Q("cpu_s")),
-                 ("p/γ̇²", Q("p")), ("s/p", Q("s_over_p")), ("T/γ̇²", Q("T")),
-                 ("steps at the cap", Q("steps_at_cap"))]),
+                 ("p/γ̇²", Q("p")), ("s/p", Q("s_over_p")), ("T/γ̇²", Q("T"))]),
     "incline": dict(
         file="incline.csv", keys=["mobile_grains"],
         columns=[("mobile grains", K("mobile_grains", True)), ("base", Q("base")), ("steps/s", Q("steps_per_s")),
