@@ -31,7 +31,7 @@ def main():
     mu, rate = runs["friction"].values, runs["rate"].values
     p, p_error = steady["pressure"], steady["pressure_error"]
     print(f"{table.kind} table {args.table}: {len(nu)} runs")
-    print(f"p: {p.meaning} [{p.units}]; γ̇ in 1/time, so p/γ̇² is a mass (code units)")
+    print(f"p: {p.meaning} [{p.unit}]; γ̇ in [{runs['rate'].unit}], so p/γ̇² is in [M], the code mass")
 
     fig, ax = plt.subplots(figsize=(5.5, 4))
     for restitution in sorted(set(e[mu == 0])):
@@ -43,7 +43,7 @@ def main():
             print(f"e = {restitution:g}  ν = {nu[row]:.4f}  p/γ̇² = {value:.6g} ± {error:.2g}")
     ax.set_yscale("log")
     ax.set_xlabel("packing fraction ν")
-    ax.set_ylabel(r"$p/\dot\gamma^2$ (mass, code units)")
+    ax.set_ylabel(r"$p/\dot\gamma^2$ (M, the code mass)")
     ax.set_title(f"steady pressure, μ = 0 ({table.kind})", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -3,7 +3,7 @@ built programs (GRANFLOW_BIN; 64 grains, well under a second each): granflow.Tra
 by frame (grains, the Lees–Edwards box, every contact column), granflow.hdf5.read_frame
 (the pipelines' snapshot reader, now on top of it) against its former implementation,
 granflow.read_table on the tables of gf-kinetic, gf-correlate, gf-network, gf-stz fit and
-d2min and steady_state.py (every dataset, its units and meaning), and the example
+d2min and steady_state.py (every dataset, its unit, units and meaning), and the example
 examples/pressure_vs_packing.py on a steady_state.py table of real runs. Run from the
 repository (PYTHONPATH=<repo>/python:<repo>/pipelines)."""
 import os
@@ -281,6 +281,7 @@ class ExampleTest(Runs, unittest.TestCase):
             rows.append(int(np.flatnonzero((e == float(fields[2])) & np.isclose(nu, float(fields[5]), atol=5e-5))[0]))
             self.assertAlmostEqual(float(fields[8]) / expected[rows[-1]], 1, delta=1e-5)
         self.assertEqual(sorted(rows), list(range(len(nu))))
+        self.assertIn("[M T-2]; γ̇ in [T-1]", result.stdout)  # the units the table gives
 
 
 if __name__ == "__main__":
