@@ -124,21 +124,13 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
   if (need_frames && !o.reader.has_contacts())
     throw bad("no contacts stored (no /contacts group): not a gf-shear trajectory");
   const shear_run::Window w = window(o, path, settings);
-  const io::Parameters& p = o.parameters;
 
   RunData run;
-  run.path = path;
-  run.packing_fraction = p.get_double("packing_fraction");
-  run.restitution = p.get_double("restitution");
-  run.friction = p.get_double("friction");
-  run.tangential_restitution = p.has("tangential-restitution") ? p.get_double("tangential-restitution") : kNaN;
-  run.dt = p.get_double("dt");
-  run.rate = o.rate;
-  run.grains = o.reader.grain_count();
+  static_cast<io::RunIdentity&>(run) = io::read_run_identity(o.reader, o.parameters, path);
   const io::GrainProperties grains = o.reader.grains();
   run.mean_mass = mean(grains.mass);
   run.mean_diameter = 2 * mean(grains.radius);
-  run.area = o.reader.box(0).area();
+  run.area = run.box.area();
   run.number_density = double(run.grains) / run.area;
 
   const std::size_t f = w.first_row;
@@ -425,90 +417,99 @@ Table analyse(const std::vector<std::string>& runs, const std::vector<std::strin
 
 // ---- Output
 
-namespace {
-
-template <class Row, class F>
-std::vector<double> column(const std::vector<Row>& rows, F value) {
-  std::vector<double> out;
-  for (const Row& r : rows) out.push_back(value(r));
-  return out;
+const std::vector<io::RowColumn<RunRow>>& run_columns() {
+  using io::integer, io::real, io::text;
+  const char* stress = "mass/time^2";
+  static const std::vector<io::RowColumn<RunRow>> columns = {
+      text("input", "path of the trajectory as given on the command line", &RunRow::input),
+      integer(io::identity_column("grains"), &RunRow::grains),
+      real(io::identity_column("packing_fraction"), &RunRow::packing_fraction),
+      real(io::identity_column("restitution"), &RunRow::restitution),
+      real(io::identity_column("friction"), &RunRow::friction),
+      real(io::identity_column("tangential_restitution"), &RunRow::tangential_restitution),
+      real(io::identity_column("rate"), &RunRow::rate),
+      real("first_strain", "1", "shear strain of the first observable row averaged", &RunRow::first_strain),
+      real("last_strain", "1", "shear strain of the last observable row averaged", &RunRow::last_strain),
+      real("temperature", "length^2/time^2", "granular temperature T of the thesis (see temperature_definition)",
+           &RunRow::temperature, "blocked standard error of temperature", &RunRow::temperature_error),
+      real("chi", "1", "pair correlation at contact χ at the run's ν (see chi_source)", &RunRow::chi,
+           "error of chi (0 for Henderson's formula)", &RunRow::chi_error),
+      integer("chi_source", "1",
+              "origin of chi: 0 interpolated from /equilibrium (piecewise linear ln χ in ν), 1 extrapolated from it "
+              "(--extrapolate), 2 Henderson's formula (no --equilibrium)",
+              &RunRow::chi_source),
+      real("p0", "mass/time^2", "kinetic pressure unit p⁰ = n m T/2 (mean mass m, n = N/(Lx Ly))", &RunRow::p0),
+      real("eta0", "mass/time", "viscosity unit η⁰ = (m/σ)√(T/2π) (mean mass m and diameter σ)", &RunRow::eta0),
+      real("p_static", stress, "static (contact) pressure p^s = (Σxx + Σyy)/2 of stress_static (eq. 2.8)",
+           &RunRow::p_static, "blocked standard error of p_static", &RunRow::p_static_error),
+      real("p_collisional", stress, "collisional pressure p^bc of stress_collisional (eq. 6.2)", &RunRow::p_collisional,
+           "blocked standard error of p_collisional", &RunRow::p_collisional_error),
+      real("s_static", stress, "static shear stress s^s = −Σxy of stress_static (positive for γ̇ > 0)",
+           &RunRow::s_static, "blocked standard error of s_static", &RunRow::s_static_error),
+      real("s_collisional", stress, "collisional shear stress s^bc = −Σxy of stress_collisional",
+           &RunRow::s_collisional, "blocked standard error of s_collisional", &RunRow::s_collisional_error),
+      real("p_enskog", stress, "Enskog collisional pressure p⁰(1 + e)χν (eq. 6.9)", &RunRow::p_enskog,
+           "error of p_enskog from those of T and χ", &RunRow::p_enskog_error),
+      real("s_enskog_thesis", stress, "eq. 6.10 as printed, times γ̇η⁰", &RunRow::s_enskog_thesis),
+      real("s_enskog_2d", stress, "2D Garzó–Dufty collisional viscosity times γ̇η⁰", &RunRow::s_enskog_2d),
+      real("collision_frequency", "1/time",
+           "collisions per grain per unit time ω = 2Σcollisions/(N Δt), from the per-step collisions observable",
+           &RunRow::collision_frequency, "blocked standard error of collision_frequency",
+           &RunRow::collision_frequency_error),
+      real("collision_frequency_frames", "1/time",
+           "ω = 2⟨contacts of age 1 per stored frame⟩/(N dt): the births of the step of each frame",
+           &RunRow::collision_frequency_frames, "standard error of collision_frequency_frames over the frames",
+           &RunRow::collision_frequency_frames_error),
+      real("velocity_correlation", "1",
+           "C_v (eq. 6.11) = Σcollision_velocity_product/(Σcollisions T), every collision counted once; NaN without "
+           "that observable",
+           &RunRow::velocity_correlation, "blocked standard error of C_v", &RunRow::velocity_correlation_error),
+      real("velocity_correlation_frames", "1",
+           "C_v from the pre_normal_velocity of the age-1 contacts of the stored frames",
+           &RunRow::velocity_correlation_frames, "standard error of velocity_correlation_frames",
+           &RunRow::velocity_correlation_frames_error),
+      real("energy_balance", "1",
+           "dissipation rate over the work of the shear stress, (Σ dissipated_energy/Δt)/(s γ̇ Lx Ly); NaN at γ̇ = 0",
+           &RunRow::energy_balance, "blocked standard error of energy_balance", &RunRow::energy_balance_error)};
+  return columns;
 }
 
-}  // namespace
+const std::vector<io::RowColumn<EquilibriumRow>>& equilibrium_columns() {
+  using io::integer, io::real, io::text;
+  using Row = EquilibriumRow;
+  static const std::vector<io::RowColumn<Row>> columns = {
+      text("input", "path of the equilibrium run as given on the command line", &Row::input),
+      integer(io::identity_column("grains"), &Row::grains),
+      real(io::identity_column("packing_fraction"), &Row::packing_fraction),
+      real("temperature", "length^2/time^2", "granular temperature T of the thesis over the window", &Row::temperature),
+      real("temperature_drift", "1", "relative change of T between the first and last quarter of the window",
+           &Row::temperature_drift),
+      real("energy_drift", "1",
+           "relative change of the kinetic energy over the window, −Σ dissipated_energy / (½ tr stress_kinetic · "
+           "Lx·Ly) (0 for an exactly elastic gas)",
+           &Row::energy_drift),
+      real("collision_frequency", "1/time", "collisions per grain per unit time ω (per-step collisions observable)",
+           &Row::collision_frequency, "blocked standard error of ω", &Row::collision_frequency_error),
+      real("chi", "1", "χ = ω/(nσ√(2πT)), mean diameter σ", &Row::chi, "blocked standard error of chi",
+           &Row::chi_error),
+      real("compressibility", "1",
+           "Z = p/(n T_k), p the total pressure, n T_k the kinetic pressure (T_k = <m|V|^2>/2, mass-weighted)",
+           &Row::compressibility, "blocked standard error of Z", &Row::compressibility_error),
+      real("chi_virial", "1", "χ from the pressure, (Z − 1)/(2ν)", &Row::chi_virial,
+           "blocked standard error of chi_virial", &Row::chi_virial_error),
+      real("chi_virial_thesis_temperature", "1",
+           "χ from the pressure with the thesis' reading n T_k = p0 = n m T/2 (mean mass, unweighted T): (p/p0 − "
+           "1)/(2ν)",
+           &Row::chi_virial_thesis_temperature, "blocked standard error of chi_virial_thesis_temperature",
+           &Row::chi_virial_thesis_temperature_error),
+      real("chi_henderson", "1", "Henderson's (1 − 7ν/16)/(1 − ν)² at ν (equal disks)", &Row::chi_henderson)};
+  return columns;
+}
 
 void write_table(const std::string& path, const Table& table, const io::Parameters& provenance) {
   io::AnalysisWriter w(path);
   w.write_parameters(provenance);
-  io::Parameters per_run;
-  per_run.set("rows", "one row per RUN.h5, in command-line order");
-  const std::size_t n = table.runs.size();
-  const auto& runs = table.runs;
-  auto real = [&](const char* name, double RunRow::*member, const std::string& meaning, const char* units) {
-    w.write(std::string("/runs/") + name, {n}, column(runs, [&](const RunRow& r) { return r.*member; }), meaning, units,
-            per_run);
-  };
-  std::vector<std::string> inputs;
-  for (const RunRow& r : runs) inputs.push_back(r.input);
-  w.write("/runs/input", inputs, "path of the trajectory as given on the command line");
-  std::vector<std::int32_t> grains, source;
-  for (const RunRow& r : runs) {
-    grains.push_back(r.grains);
-    source.push_back(r.chi_source);
-  }
-  w.write("/runs/grains", {n}, grains, "grains N", "1", per_run);
-  real("packing_fraction", &RunRow::packing_fraction, "packing fraction ν (the run's /parameters)", "1");
-  real("restitution", &RunRow::restitution, "normal restitution e (the run's /parameters)", "1");
-  real("friction", &RunRow::friction, "Coulomb friction μ (the run's /parameters)", "1");
-  real("tangential_restitution", &RunRow::tangential_restitution,
-       "tangential restitution e_t (the run's /parameters; NaN if absent)", "1");
-  real("rate", &RunRow::rate, "shear rate γ̇ (the run's /lees_edwards rate)", "1/time");
-  real("first_strain", &RunRow::first_strain, "shear strain of the first observable row averaged", "1");
-  real("last_strain", &RunRow::last_strain, "shear strain of the last observable row averaged", "1");
-  real("temperature", &RunRow::temperature, "granular temperature T of the thesis (see temperature_definition)",
-       "length^2/time^2");
-  real("temperature_error", &RunRow::temperature_error, "blocked standard error of temperature", "length^2/time^2");
-  real("chi", &RunRow::chi, "pair correlation at contact χ at the run's ν (see chi_source)", "1");
-  real("chi_error", &RunRow::chi_error, "error of chi (0 for Henderson's formula)", "1");
-  w.write("/runs/chi_source", {n}, source,
-          "origin of chi: 0 interpolated from /equilibrium (piecewise linear ln χ in ν), 1 extrapolated from it "
-          "(--extrapolate), 2 Henderson's formula (no --equilibrium)",
-          "1", per_run);
-  real("p0", &RunRow::p0, "kinetic pressure unit p⁰ = n m T/2 (mean mass m, n = N/(Lx Ly))", "mass/time^2");
-  real("eta0", &RunRow::eta0, "viscosity unit η⁰ = (m/σ)√(T/2π) (mean mass m and diameter σ)", "mass/time");
-  const char* stress = "mass/time^2";
-  real("p_static", &RunRow::p_static, "static (contact) pressure p^s = (Σxx + Σyy)/2 of stress_static (eq. 2.8)",
-       stress);
-  real("p_static_error", &RunRow::p_static_error, "blocked standard error of p_static", stress);
-  real("p_collisional", &RunRow::p_collisional, "collisional pressure p^bc of stress_collisional (eq. 6.2)", stress);
-  real("p_collisional_error", &RunRow::p_collisional_error, "blocked standard error of p_collisional", stress);
-  real("s_static", &RunRow::s_static, "static shear stress s^s = −Σxy of stress_static (positive for γ̇ > 0)", stress);
-  real("s_static_error", &RunRow::s_static_error, "blocked standard error of s_static", stress);
-  real("s_collisional", &RunRow::s_collisional, "collisional shear stress s^bc = −Σxy of stress_collisional", stress);
-  real("s_collisional_error", &RunRow::s_collisional_error, "blocked standard error of s_collisional", stress);
-  real("p_enskog", &RunRow::p_enskog, "Enskog collisional pressure p⁰(1 + e)χν (eq. 6.9)", stress);
-  real("p_enskog_error", &RunRow::p_enskog_error, "error of p_enskog from those of T and χ", stress);
-  real("s_enskog_thesis", &RunRow::s_enskog_thesis, "eq. 6.10 as printed, times γ̇η⁰", stress);
-  real("s_enskog_2d", &RunRow::s_enskog_2d, "2D Garzó–Dufty collisional viscosity times γ̇η⁰", stress);
-  real("collision_frequency", &RunRow::collision_frequency,
-       "collisions per grain per unit time ω = 2Σcollisions/(N Δt), from the per-step collisions observable", "1/time");
-  real("collision_frequency_error", &RunRow::collision_frequency_error, "blocked standard error of collision_frequency",
-       "1/time");
-  real("collision_frequency_frames", &RunRow::collision_frequency_frames,
-       "ω = 2⟨contacts of age 1 per stored frame⟩/(N dt): the births of the step of each frame", "1/time");
-  real("collision_frequency_frames_error", &RunRow::collision_frequency_frames_error,
-       "standard error of collision_frequency_frames over the frames", "1/time");
-  real("velocity_correlation", &RunRow::velocity_correlation,
-       "C_v (eq. 6.11) = Σcollision_velocity_product/(Σcollisions T), every collision counted once; NaN without "
-       "that observable",
-       "1");
-  real("velocity_correlation_error", &RunRow::velocity_correlation_error, "blocked standard error of C_v", "1");
-  real("velocity_correlation_frames", &RunRow::velocity_correlation_frames,
-       "C_v from the pre_normal_velocity of the age-1 contacts of the stored frames", "1");
-  real("velocity_correlation_frames_error", &RunRow::velocity_correlation_frames_error,
-       "standard error of velocity_correlation_frames", "1");
-  real("energy_balance", &RunRow::energy_balance,
-       "dissipation rate over the work of the shear stress, (Σ dissipated_energy/Δt)/(s γ̇ Lx Ly); NaN at γ̇ = 0", "1");
-  real("energy_balance_error", &RunRow::energy_balance_error, "blocked standard error of energy_balance", "1");
+  io::TableWriter(w, "/runs", "one row per RUN.h5, in command-line order").write(table.runs, run_columns());
   io::Parameters group;
   group.set("velocity_correlation_convention", "per collision");
   group.set("velocity_correlation_baseline", kCvMolecularChaosPerCollision);
@@ -518,52 +519,9 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
   group.set("detect_transient", std::int64_t(table.settings.detect_transient));
   group.set("extrapolate", std::int64_t(table.settings.extrapolate));
   w.write_attributes("/runs", group);
-
-  if (table.has_equilibrium) {
-    const auto& eq = table.equilibrium;
-    const std::size_t q = eq.size();
-    io::Parameters per_eq;
-    per_eq.set("rows", "one row per equilibrium run, sorted by packing_fraction");
-    auto ereal = [&](const char* name, double EquilibriumRow::*member, const std::string& meaning, const char* units) {
-      w.write(std::string("/equilibrium/") + name, {q}, column(eq, [&](const EquilibriumRow& r) { return r.*member; }),
-              meaning, units, per_eq);
-    };
-    std::vector<std::string> names;
-    std::vector<std::int32_t> counts;
-    for (const EquilibriumRow& r : eq) {
-      names.push_back(r.input);
-      counts.push_back(r.grains);
-    }
-    w.write("/equilibrium/input", names, "path of the equilibrium run as given on the command line");
-    w.write("/equilibrium/grains", {q}, counts, "grains N", "1", per_eq);
-    ereal("packing_fraction", &EquilibriumRow::packing_fraction, "packing fraction ν (the run's /parameters)", "1");
-    ereal("temperature", &EquilibriumRow::temperature, "granular temperature T of the thesis over the window",
-          "length^2/time^2");
-    ereal("temperature_drift", &EquilibriumRow::temperature_drift,
-          "relative change of T between the first and last quarter of the window", "1");
-    ereal("energy_drift", &EquilibriumRow::energy_drift,
-          "relative change of the kinetic energy over the window, −Σ dissipated_energy / (½ tr stress_kinetic · Lx·Ly) "
-          "(0 for an exactly elastic gas)",
-          "1");
-    ereal("collision_frequency", &EquilibriumRow::collision_frequency,
-          "collisions per grain per unit time ω (per-step collisions observable)", "1/time");
-    ereal("collision_frequency_error", &EquilibriumRow::collision_frequency_error, "blocked standard error of ω",
-          "1/time");
-    ereal("chi", &EquilibriumRow::chi, "χ = ω/(nσ√(2πT)), mean diameter σ", "1");
-    ereal("chi_error", &EquilibriumRow::chi_error, "blocked standard error of chi", "1");
-    ereal("compressibility", &EquilibriumRow::compressibility,
-          "Z = p/(n T_k), p the total pressure, n T_k the kinetic pressure (T_k = <m|V|^2>/2, mass-weighted)", "1");
-    ereal("compressibility_error", &EquilibriumRow::compressibility_error, "blocked standard error of Z", "1");
-    ereal("chi_virial", &EquilibriumRow::chi_virial, "χ from the pressure, (Z − 1)/(2ν)", "1");
-    ereal("chi_virial_error", &EquilibriumRow::chi_virial_error, "blocked standard error of chi_virial", "1");
-    ereal(
-        "chi_virial_thesis_temperature", &EquilibriumRow::chi_virial_thesis_temperature,
-        "χ from the pressure with the thesis' reading n T_k = p0 = n m T/2 (mean mass, unweighted T): (p/p0 − 1)/(2ν)",
-        "1");
-    ereal("chi_virial_thesis_temperature_error", &EquilibriumRow::chi_virial_thesis_temperature_error,
-          "blocked standard error of chi_virial_thesis_temperature", "1");
-    ereal("chi_henderson", &EquilibriumRow::chi_henderson, "Henderson's (1 − 7ν/16)/(1 − ν)² at ν (equal disks)", "1");
-  }
+  if (table.has_equilibrium)
+    io::TableWriter(w, "/equilibrium", "one row per equilibrium run, sorted by packing_fraction")
+        .write(table.equilibrium, equilibrium_columns());
   w.close();
 }
 

@@ -24,6 +24,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/run_identity.hpp"
+#include "io/table_writer.hpp"
 #include "io/trajectory.hpp"
 #include "statistics/delta.hpp"
 
@@ -80,11 +82,9 @@ struct Settings {
   bool quiet = false;
 };
 
-struct RunData {
-  std::string path;
-  std::size_t grains = 0;
-  double packing_fraction = 0, restitution = 0, friction = 0, tangential_restitution = kNaN, rate = 0;
-  double dt = 0, area = 0, number_density = 0, mean_mass = 0, mean_diameter = 0;
+// The run's identity (io::read_run_identity: path, N, ν, e, μ, e_t, γ̇, dt, box) and its window.
+struct RunData : io::RunIdentity {
+  double area = 0, number_density = 0, mean_mass = 0, mean_diameter = 0;
   double first_strain = 0, last_strain = 0, first_time = 0, last_time = 0;
   // Per window row: its span (steps since the previous row × dt) and the observables.
   std::vector<double> span, temperature_observed, pressure, p_kinetic, p_static, p_collisional, s_static, s_collisional,
@@ -161,6 +161,11 @@ RunRow run_row(const RunData& run, const ChiTable* table, bool extrapolate);
 // equilibrium table's ν range without extrapolate.
 Table analyse(const std::vector<std::string>& runs, const std::vector<std::string>& equilibrium,
               const Settings& settings);
+
+// The columns of /runs and /equilibrium, each declared once (docs/file-format.md, gf-kinetic
+// table, is checked against them).
+const std::vector<io::RowColumn<RunRow>>& run_columns();
+const std::vector<io::RowColumn<EquilibriumRow>>& equilibrium_columns();
 
 // Writes the table (docs/file-format.md, gf-kinetic table) with the provenance in /parameters.
 void write_table(const std::string& path, const Table& table, const io::Parameters& provenance);
