@@ -193,7 +193,7 @@ double fft_seconds(const Box& box, double cell, double max_lag) {
 }
 
 Run open_run(const std::string& path, double from_strain, bool detect_transient) {
-  Run run{path, io::TrajectoryReader(path)};
+  Run run{io::RunIdentity{}, io::TrajectoryReader(path)};
   const io::TrajectoryReader& reader = run.reader;
   const io::Parameters p = reader.parameters();
   auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
@@ -204,12 +204,7 @@ Run open_run(const std::string& path, double from_strain, bool detect_transient)
   const Box box = reader.box(0);
   if (!box.periodic_y) throw bad("the box is open in y (an incline run); gf-correlate needs a Lees-Edwards shear run");
 
-  run.packing_fraction = p.get_double("packing_fraction");
-  run.restitution = p.get_double("restitution");
-  run.friction = p.get_double("friction");
-  run.tangential_restitution = p.has("tangential-restitution") ? p.get_double("tangential-restitution") : kNaN;
-  run.rate = reader.lees_edwards_rate();
-  run.grains = reader.grain_count();
+  static_cast<io::RunIdentity&>(run) = io::read_run_identity(reader, p, path);
   const std::vector<double> radius = reader.grains().radius;
   run.mean_diameter = 2 * std::accumulate(radius.begin(), radius.end(), 0.0) / double(radius.size());
   run.half_side = 0.5 * std::min(box.lx, box.ly);

@@ -23,6 +23,7 @@
 #include "correlation/force_correlation.hpp"
 #include "correlation/force_distribution.hpp"
 #include "correlation/sweep.hpp"
+#include "io/run_identity.hpp"
 #include "io/trajectory.hpp"
 
 namespace granflow::correlation {
@@ -67,16 +68,14 @@ struct DirectionLength {
 };
 DirectionLength direction_length(const std::vector<PairSums>& blocks, const LagGrid& grid);
 
-// A trajectory opened and checked, with the frames to average and its parameters.
-struct Run {
-  std::string path;
+// A trajectory opened and checked, with its identity (io::read_run_identity: path, N, ν, e,
+// μ, e_t, γ̇, dt, box) and the frames to average.
+struct Run : io::RunIdentity {
   io::TrajectoryReader reader;
   std::vector<std::size_t> frames{};         // past the transient
   double first_strain = 0, last_strain = 0;  // of those frames
-  double packing_fraction = 0, restitution = 0, tangential_restitution = 0, friction = 0, rate = 0;
   double mean_diameter = 0;
   double half_side = 0;  // min(Lx, Ly)/2
-  std::size_t grains = 0;
 };
 
 // UsageError naming the file: not a trajectory, a packing, no contacts stored, no

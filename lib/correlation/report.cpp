@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "io/analysis_writer.hpp"
+#include "io/table_writer.hpp"
 
 namespace granflow::correlation {
 
@@ -43,51 +44,28 @@ io::Parameters rows_note() {
   return p;
 }
 
-void write_runs(io::AnalysisWriter& w, const std::string& group, const std::vector<Run>& runs) {
-  const std::size_t n = runs.size();
-  std::vector<std::string> paths;
-  for (const Run& r : runs) paths.push_back(r.path);
-  w.write(group + "/input", paths, "path of the trajectory as given on the command line");
-  auto parameter = [&](const char* name, double Run::*member, const char* meaning, const char* units) {
-    w.write(group + "/" + name, {n}, column(n, [&](std::size_t i) { return runs[i].*member; }), meaning, units);
+// What every step of write_report writes with: the writer, the report, its run count and the
+// `rows` note of the per-run datasets.
+struct Target {
+  io::AnalysisWriter& w;
+  const Report& report;
+  std::size_t n;
+  io::Parameters per_run;
+};
+
+// A column of one of the eq. 5.3 fits, fit(result).
+template <class Fit>
+auto fit_column(const Target& t, Fit fit) {
+  return [&t, fit](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
+    t.w.write(std::string("/correlation/") + name, {t.n},
+              column(t.n, [&](std::size_t i) { return std::invoke(fit, t.report.results[i]).*member; }), meaning, units,
+              t.per_run);
   };
-  parameter("packing_fraction", &Run::packing_fraction, "packing fraction ν (the run's /parameters)", "1");
-  parameter("restitution", &Run::restitution, "normal restitution e (the run's /parameters)", "1");
-  parameter("friction", &Run::friction, "Coulomb friction μ (the run's /parameters)", "1");
 }
 
-}  // namespace
-
-void write_report(const std::string& path, const Report& report, const io::Parameters& provenance) {
-  io::AnalysisWriter w(path);
-  w.write_parameters(provenance);
-  const std::size_t n = report.runs.size();
+// The attributes of /correlation: the grid, the window, the rules of ξ_|C| and C, the map's method.
+io::Parameters correlation_attributes(const Report& report) {
   const LagGrid& grid = report.grid;
-  const std::size_t nb = std::size_t(grid.radial_bins), nk = std::size_t(grid.angle_bins);
-  const std::size_t nm = std::size_t(grid.map_side());
-  const auto& res = report.results;
-  const io::Parameters per_run = rows_note();
-
-  // ---- /runs
-  write_runs(w, "/runs", report.runs);
-  w.write("/runs/tangential_restitution", {n},
-          column(n, [&](std::size_t i) { return report.runs[i].tangential_restitution; }),
-          "tangential restitution e_t (the run's /parameters)", "1");
-  w.write("/runs/rate", {n}, column(n, [&](std::size_t i) { return report.runs[i].rate; }),
-          "shear rate γ̇ (the run's /lees_edwards rate)", "1/time");
-  w.write("/runs/grains", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].grains; }), "grains N", "1");
-  w.write("/runs/frames", {n}, int_column(n, [&](std::size_t i) { return report.runs[i].frames.size(); }),
-          "stored frames averaged (strain >= from_strain, or past the run's transient with detect_transient)", "1");
-  w.write("/runs/blocks", {n}, int_column(n, [&](std::size_t i) { return res[i].blocks; }),
-          "blocks of consecutive frames for the jackknife and bootstrap errors", "1");
-  w.write("/runs/first_strain", {n}, column(n, [&](std::size_t i) { return report.runs[i].first_strain; }),
-          "shear strain of the first frame averaged", "1");
-  w.write("/runs/last_strain", {n}, column(n, [&](std::size_t i) { return report.runs[i].last_strain; }),
-          "shear strain of the last frame averaged", "1");
-  w.write("/runs/contacts", {n}, column(n, [&](std::size_t i) { return double(res[i].contacts); }),
-          "contacts (F_n > 0) in the frames averaged", "1");
-
-  // ---- /correlation
   io::Parameters attrs;
   attrs.set("mean_diameter", report.mean_diameter);
   attrs.set("bin_width", grid.bin_width);
@@ -133,7 +111,30 @@ void write_report(const std::string& path, const Report& report, const io::Param
                 "to their cell centres; fft_grid lists the runs, then the reference runs");
     }
   }
-  w.write_attributes("/correlation", attrs);
+  return attrs;
+}
+
+// /runs: the input runs' identity and what was averaged.
+void write_runs_table(const Target& t) {
+  std::vector<RunsRow> rows;
+  for (std::size_t i = 0; i < t.n; ++i) {
+    const Run& run = t.report.runs[i];
+    const RunResult& result = t.report.results[i];
+    rows.push_back({run, std::int32_t(run.frames.size()), std::int32_t(result.blocks), run.first_strain,
+                    run.last_strain, double(result.contacts)});
+  }
+  io::TableWriter(t.w, "/runs", "").write(rows, run_columns());
+}
+
+// /correlation: the isotropic C(l) and the lengths of eq. 5.2 (ξ, ξ_length).
+void write_isotropic(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const Report& report = t.report;
+  const std::size_t n = t.n;
+  const LagGrid& grid = t.report.grid;
+  const std::size_t nb = std::size_t(t.report.grid.radial_bins);
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
   w.write("/correlation/r", {nb}, radial_centres(grid),
           "centre of the radial lag bin [r - bin_width/2, r + bin_width/2)", "length");
   w.write("/correlation/C", {n, nb}, rows(res, &RunResult::c),
@@ -180,7 +181,16 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_length_ratio", {n}, report.xi_length_ratio, "xi_length / xi_length_el", "1", per_run);
   w.write("/correlation/xi_length_ratio_error", {n}, report.xi_length_ratio_error,
           "standard error of xi_length / xi_length_el (errors combined in quadrature)", "1", per_run);
-  // ξ_|C| (decay_length.hpp).
+}
+
+// /correlation: ξ_|C|, the decay length of |C| (decay_length.hpp), and its anisotropy fit.
+void write_magnitude(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const Report& report = t.report;
+  const std::size_t n = t.n;
+  const std::size_t nk = std::size_t(t.report.grid.angle_bins);
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
   auto magnitude = [&](const char* name, auto value, const char* meaning, const char* units) {
     w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].magnitude.*value; }),
             meaning, units, per_run);
@@ -208,14 +218,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_abs_theta_error", {n, nk},
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.magnitude.xi_theta_error; }),
           "jackknife standard error of xi_abs_theta", "length", per_run);
-  // A column of one of the eq. 5.3 fits, fit(result).
-  auto fit_column = [&](auto fit) {
-    return [&, fit](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
-      w.write(std::string("/correlation/") + name, {n},
-              column(n, [&](std::size_t i) { return std::invoke(fit, res[i]).*member; }), meaning, units, per_run);
-    };
-  };
-  const auto fit_abs = fit_column(&RunResult::fit_abs);
+  const auto fit_abs = fit_column(t, &RunResult::fit_abs);
   fit_abs("a0_abs", &AnisotropyFit::a0,
           "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean over the "
           "sectors",
@@ -233,6 +236,16 @@ void write_report(const std::string& path, const Report& report, const io::Param
   w.write("/correlation/xi_abs_ratio", {n}, report.xi_abs_ratio, "xi_abs / xi_abs_el", "1", per_run);
   w.write("/correlation/xi_abs_ratio_error", {n}, report.xi_abs_ratio_error,
           "standard error of xi_abs / xi_abs_el (errors combined in quadrature)", "1", per_run);
+}
+
+// /correlation: ξ(θ) and ξ_dir(θ) with their eq. 5.3 fits.
+void write_anisotropy(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const std::size_t n = t.n;
+  const LagGrid& grid = t.report.grid;
+  const std::size_t nk = std::size_t(t.report.grid.angle_bins);
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
   w.write("/correlation/theta", {nk}, sector_centres(grid),
           "centre of the angular sector of the lag (angle to the x axis, modulo pi)", "radian");
   w.write("/correlation/xi_theta", {n, nk}, rows(res, &RunResult::xi_theta),
@@ -241,7 +254,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "length/radian", per_run);
   w.write("/correlation/xi_theta_error", {n, nk}, rows(res, &RunResult::xi_theta_error),
           "jackknife standard error of xi_theta", "length/radian", per_run);
-  const auto fit = fit_column(&RunResult::fit);
+  const auto fit = fit_column(t, &RunResult::fit);
   fit("a0", &AnisotropyFit::a0, "a0 of eq. 5.3, xi(theta) = xi/(2 pi) (1 - a0 sin 2(theta - theta0)), fitted", "1");
   fit("a0_error", &AnisotropyFit::a0_error, "standard error of a0 (covariance scaled by max(1, sqrt(chi2/dof)))", "1");
   fit("theta0", &AnisotropyFit::theta0, "theta0 of eq. 5.3, in [-pi/2, pi/2)", "radian");
@@ -262,7 +275,7 @@ void write_report(const std::string& path, const Report& report, const io::Param
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.direction.xi_theta_error; }),
           "jackknife standard error of xi_theta_direction (NaN where a leave-one-block-out value is NaN)", "length",
           per_run);
-  const auto fit_direction = fit_column([](const RunResult& r) -> const AnisotropyFit& { return r.direction.fit; });
+  const auto fit_direction = fit_column(t, [](const RunResult& r) -> const AnisotropyFit& { return r.direction.fit; });
   fit_direction("a0_direction", &AnisotropyFit::a0,
                 "a0 of eq. 5.3's shape fitted to the finite xi_theta_direction = m (1 - a0 sin 2(theta - theta0)), m "
                 "their mean (eq. 5.3 with xi = 2 pi m); NaN with fewer than 3 finite sectors",
@@ -279,6 +292,16 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "1: that fit weighted by the jackknife errors of the finite xi_theta_direction; 0: unweighted (one of "
           "those errors not finite and positive, or no fit), errors from the scatter",
           "1", per_run);
+}
+
+// /correlation: the map of C over lag vectors.
+void write_map(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const std::size_t n = t.n;
+  const LagGrid& grid = t.report.grid;
+  const std::size_t nm = std::size_t(t.report.grid.map_side());
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
   std::vector<double> maps;
   for (const auto& r : res) maps.insert(maps.end(), r.map.begin(), r.map.end());
   w.write("/correlation/map", {n, nm, nm}, maps,
@@ -287,9 +310,15 @@ void write_report(const std::string& path, const Report& report, const io::Param
           "1/length^2", per_run);
   w.write("/correlation/map_x", {nm}, map_centres(grid), "x component of the lag at the map bin centres", "length");
   w.write("/correlation/map_y", {nm}, map_centres(grid), "y component of the lag at the map bin centres", "length");
+}
 
-  // ---- /forces
-  const Settings& s = report.settings;
+// /forces: P(f), P(f_bc), the mean forces and the peak decision.
+void write_forces(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const std::size_t n = t.n;
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
+  const Settings& s = t.report.settings;
   io::Parameters force_attrs;
   force_attrs.set("bin_width", s.force_bin_width);
   force_attrs.set("max_f", s.force_max);
@@ -347,137 +376,214 @@ void write_report(const std::string& path, const Report& report, const io::Param
   force_column(
       "p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
       "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
+}
 
-  // ---- /reference
-  if (!report.references.empty()) {
-    const std::size_t m = report.references.size();
-    write_runs(w, "/reference", report.references);
-    w.write("/reference/xi", {m}, report.reference_xi, "xi (eq. 5.2) of the reference run", "length");
-    w.write("/reference/xi_error", {m}, report.reference_xi_error, "jackknife standard error of xi", "length");
-    w.write("/reference/xi_length", {m}, report.reference_xi_length,
-            "xi_length (eq. 5.2 with C per unit length) of the reference run", "length");
-    w.write("/reference/xi_length_error", {m}, report.reference_xi_length_error,
-            "jackknife standard error of xi_length", "length");
-    w.write("/reference/xi_abs", {m}, report.reference_xi_abs, "xi_abs (decay length of |C|) of the reference run",
-            "length");
-    w.write("/reference/xi_abs_error", {m}, report.reference_xi_abs_error, "jackknife standard error of xi_abs",
-            "length");
-  }
+// /reference: the reference runs (with --reference).
+void write_reference(const Target& t) {
+  const Report& report = t.report;
+  std::vector<ReferenceRow> rows;
+  for (std::size_t i = 0; i < report.references.size(); ++i)
+    rows.push_back({report.references[i], report.reference_xi[i], report.reference_xi_error[i],
+                    report.reference_xi_length[i], report.reference_xi_length_error[i], report.reference_xi_abs[i],
+                    report.reference_xi_abs_error[i]});
+  io::TableWriter(t.w, "/reference", "").write(rows, reference_columns());
+}
 
-  // ---- /sweep
-  if (!report.crossings.empty()) {
-    const auto& c = report.crossings;
-    const std::size_t g = c.size();
-    io::Parameters sweep_attrs;
-    sweep_attrs.set("threshold", s.threshold);
-    sweep_attrs.set("rule",
-                    "nu_bc: first upward crossing of xi/xi_el = threshold along nu within one (e, mu) "
-                    "series, linear interpolation between the bracketing runs (thesis Figs 5.9, 5.10)");
-    w.write_attributes("/sweep", sweep_attrs);
-    auto series = [&](const char* name, auto value, const char* meaning, const char* units) {
+// /sweep: ν_bc per (e, μ) series and the regimes (when ξ_el is known).
+void write_sweep(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const Report& report = t.report;
+  const std::size_t n = t.n;
+  const auto& res = t.report.results;
+  const io::Parameters& per_run = t.per_run;
+  const Settings& s = t.report.settings;
+  const auto& c = report.crossings;
+  const std::size_t g = c.size();
+  io::Parameters sweep_attrs;
+  sweep_attrs.set("threshold", s.threshold);
+  sweep_attrs.set("rule",
+                  "nu_bc: first upward crossing of xi/xi_el = threshold along nu within one (e, mu) "
+                  "series, linear interpolation between the bracketing runs (thesis Figs 5.9, 5.10)");
+  w.write_attributes("/sweep", sweep_attrs);
+  auto series = [&](const char* name, auto value, const char* meaning, const char* units) {
+    w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
+  };
+  series(
+      "restitution", [&](std::size_t k) { return c[k].restitution; }, "e of the series", "1");
+  series(
+      "friction", [&](std::size_t k) { return c[k].friction; }, "mu of the series", "1");
+  series(
+      "nu_bc", [&](std::size_t k) { return c[k].nu_bc; },
+      "packing fraction where xi/xi_el crosses the threshold (NaN unless status = 0)", "1");
+  series(
+      "nu_bc_error", [&](std::size_t k) { return c[k].nu_bc_error; },
+      "standard error of nu_bc from the errors of xi and xi_el (interpolation error not included)", "1");
+  series(
+      "nu_below", [&](std::size_t k) { return c[k].nu_below; }, "nu of the run below the crossing", "1");
+  series(
+      "nu_above", [&](std::size_t k) { return c[k].nu_above; }, "nu of the run above the crossing", "1");
+  w.write("/sweep/runs", {g}, int_column(g, [&](std::size_t k) { return c[k].runs; }),
+          "runs in the series (runs at equal nu are merged)", "1");
+  w.write("/sweep/sign_changes", {g}, int_column(g, [&](std::size_t k) { return c[k].sign_changes; }),
+          "sign changes of xi/xi_el - threshold along nu (more than 1: noisy or non-monotonic)", "1");
+  w.write("/sweep/status", {g}, int_column(g, [&](std::size_t k) { return int(c[k].status); }),
+          "0 crossing interpolated; 1 every run above the threshold (nu_bc below the lowest nu); 2 every run "
+          "below (nu_bc above the highest nu); 3 fewer than two distinct nu; 4 only downward crossings",
+          "1");
+  if (!report.crossings_abs.empty()) {
+    const auto& a = report.crossings_abs;
+    auto abs_series = [&](const char* name, auto value, const char* meaning, const char* units) {
       w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
     };
-    series(
-        "restitution", [&](std::size_t k) { return c[k].restitution; }, "e of the series", "1");
-    series(
-        "friction", [&](std::size_t k) { return c[k].friction; }, "mu of the series", "1");
-    series(
-        "nu_bc", [&](std::size_t k) { return c[k].nu_bc; },
-        "packing fraction where xi/xi_el crosses the threshold (NaN unless status = 0)", "1");
-    series(
-        "nu_bc_error", [&](std::size_t k) { return c[k].nu_bc_error; },
-        "standard error of nu_bc from the errors of xi and xi_el (interpolation error not included)", "1");
-    series(
-        "nu_below", [&](std::size_t k) { return c[k].nu_below; }, "nu of the run below the crossing", "1");
-    series(
-        "nu_above", [&](std::size_t k) { return c[k].nu_above; }, "nu of the run above the crossing", "1");
-    w.write("/sweep/runs", {g}, int_column(g, [&](std::size_t k) { return c[k].runs; }),
-            "runs in the series (runs at equal nu are merged)", "1");
-    w.write("/sweep/sign_changes", {g}, int_column(g, [&](std::size_t k) { return c[k].sign_changes; }),
-            "sign changes of xi/xi_el - threshold along nu (more than 1: noisy or non-monotonic)", "1");
-    w.write("/sweep/status", {g}, int_column(g, [&](std::size_t k) { return int(c[k].status); }),
-            "0 crossing interpolated; 1 every run above the threshold (nu_bc below the lowest nu); 2 every run "
-            "below (nu_bc above the highest nu); 3 fewer than two distinct nu; 4 only downward crossings",
-            "1");
-    if (!report.crossings_abs.empty()) {
-      const auto& a = report.crossings_abs;
-      auto abs_series = [&](const char* name, auto value, const char* meaning, const char* units) {
-        w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
-      };
-      abs_series(
-          "nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
-          "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)", "1");
-      abs_series(
-          "nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
-          "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
-      abs_series(
-          "nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing", "1");
-      abs_series(
-          "nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing", "1");
-      w.write("/sweep/runs_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].runs; }),
-              "measurable runs in the series", "1");
-      w.write("/sweep/sign_changes_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].sign_changes; }),
-              "sign changes of xi_abs/xi_abs_el - threshold along nu", "1");
-      w.write("/sweep/status_abs", {g}, int_column(g, [&](std::size_t k) { return int(a[k].status); }),
-              "as status, for xi_abs over the measurable runs", "1");
-      w.write("/sweep/regime_abs", {n},
-              int_column(n,
-                         [&](std::size_t i) {
-                           const double q = report.xi_abs_ratio[i];
-                           if (!res[i].magnitude.measurable) return -2;
-                           return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
-                         }),
-              "as regime, by xi_abs/xi_abs_el; -2 correlations reach the box (not measurable)", "1", per_run);
-    }
-    w.write("/sweep/regime", {n},
+    abs_series(
+        "nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
+        "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)", "1");
+    abs_series(
+        "nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
+        "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
+    abs_series(
+        "nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing", "1");
+    abs_series(
+        "nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing", "1");
+    w.write("/sweep/runs_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].runs; }),
+            "measurable runs in the series", "1");
+    w.write("/sweep/sign_changes_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].sign_changes; }),
+            "sign changes of xi_abs/xi_abs_el - threshold along nu", "1");
+    w.write("/sweep/status_abs", {g}, int_column(g, [&](std::size_t k) { return int(a[k].status); }),
+            "as status, for xi_abs over the measurable runs", "1");
+    w.write("/sweep/regime_abs", {n},
             int_column(n,
                        [&](std::size_t i) {
-                         const double q = report.xi_ratio[i];
+                         const double q = report.xi_abs_ratio[i];
+                         if (!res[i].magnitude.measurable) return -2;
                          return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
                        }),
-            "phase diagram (Fig. 5.10): 1 dense inertial (xi/xi_el >= threshold), 0 dilute (binary collisions), "
-            "-1 unknown",
-            "1", per_run);
+            "as regime, by xi_abs/xi_abs_el; -2 correlations reach the box (not measurable)", "1", per_run);
   }
+  w.write("/sweep/regime", {n},
+          int_column(n,
+                     [&](std::size_t i) {
+                       const double q = report.xi_ratio[i];
+                       return std::isfinite(q) ? (q >= s.threshold ? 1 : 0) : -1;
+                     }),
+          "phase diagram (Fig. 5.10): 1 dense inertial (xi/xi_el >= threshold), 0 dilute (binary collisions), "
+          "-1 unknown",
+          "1", per_run);
+}
 
-  // ---- /clusters
-  if (!report.clusters.empty()) {
-    std::vector<std::int32_t> label, offset{0};
-    std::vector<double> position, box;
-    for (const Clusters& c : report.clusters) {
-      label.insert(label.end(), c.label.begin(), c.label.end());
-      for (const Vec2& r : c.position) position.insert(position.end(), {r.x(), r.y()});
-      offset.push_back(std::int32_t(label.size()));
-      box.insert(box.end(), {c.box.lx, c.box.ly, c.box.offset});
-    }
-    const auto& c = report.clusters;
-    io::Parameters cluster_attrs;
-    cluster_attrs.set("window", s.clusters_window);
-    cluster_attrs.set("rule",
-                      "grains in contact in any stored frame of the window, grouped into connected "
-                      "components of the union of the frames' contact graphs (thesis Fig. 5.1)");
-    w.write_attributes("/clusters", cluster_attrs);
-    w.write("/clusters/label", {label.size()}, label,
-            "cluster of each grain: 0 no contact in the window, 1.. clusters by decreasing size; run k's grains "
-            "are rows grain_offset[k] .. grain_offset[k+1]-1",
-            "1");
-    w.write("/clusters/position", {label.size(), 2}, position, "grain centres at the window's last frame", "length");
-    w.write("/clusters/grain_offset", {offset.size()}, offset, "first row of each run in label and position", "1");
-    w.write("/clusters/box", {n, 3}, box, "Lx, Ly and the Lees-Edwards image offset at the window's last frame",
-            "length", per_run);
-    w.write("/clusters/first_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].first_frame; }),
-            "first stored frame of the window", "1", per_run);
-    w.write("/clusters/last_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].last_frame; }),
-            "last stored frame of the window", "1", per_run);
-    std::vector<std::int64_t> first_step, last_step;
-    for (const Clusters& k : c) {
-      first_step.push_back(k.first_step);
-      last_step.push_back(k.last_step);
-    }
-    w.write("/clusters/first_step", {n}, first_step, "time step of the window's first frame", "1", per_run);
-    w.write("/clusters/last_step", {n}, last_step, "time step of the window's last frame", "1", per_run);
-    w.write("/clusters/count", {n}, int_column(n, [&](std::size_t i) { return c[i].count; }), "clusters", "1", per_run);
+// /clusters: the contact clusters of a window (with --clusters-window).
+void write_clusters(const Target& t) {
+  io::AnalysisWriter& w = t.w;
+  const Report& report = t.report;
+  const std::size_t n = t.n;
+  const io::Parameters& per_run = t.per_run;
+  const Settings& s = t.report.settings;
+  std::vector<std::int32_t> label, offset{0};
+  std::vector<double> position, box;
+  for (const Clusters& c : report.clusters) {
+    label.insert(label.end(), c.label.begin(), c.label.end());
+    for (const Vec2& r : c.position) position.insert(position.end(), {r.x(), r.y()});
+    offset.push_back(std::int32_t(label.size()));
+    box.insert(box.end(), {c.box.lx, c.box.ly, c.box.offset});
   }
+  const auto& c = report.clusters;
+  io::Parameters cluster_attrs;
+  cluster_attrs.set("window", s.clusters_window);
+  cluster_attrs.set("rule",
+                    "grains in contact in any stored frame of the window, grouped into connected "
+                    "components of the union of the frames' contact graphs (thesis Fig. 5.1)");
+  w.write_attributes("/clusters", cluster_attrs);
+  w.write("/clusters/label", {label.size()}, label,
+          "cluster of each grain: 0 no contact in the window, 1.. clusters by decreasing size; run k's grains "
+          "are rows grain_offset[k] .. grain_offset[k+1]-1",
+          "1");
+  w.write("/clusters/position", {label.size(), 2}, position, "grain centres at the window's last frame", "length");
+  w.write("/clusters/grain_offset", {offset.size()}, offset, "first row of each run in label and position", "1");
+  w.write("/clusters/box", {n, 3}, box, "Lx, Ly and the Lees-Edwards image offset at the window's last frame", "length",
+          per_run);
+  w.write("/clusters/first_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].first_frame; }),
+          "first stored frame of the window", "1", per_run);
+  w.write("/clusters/last_frame", {n}, int_column(n, [&](std::size_t i) { return c[i].last_frame; }),
+          "last stored frame of the window", "1", per_run);
+  std::vector<std::int64_t> first_step, last_step;
+  for (const Clusters& k : c) {
+    first_step.push_back(k.first_step);
+    last_step.push_back(k.last_step);
+  }
+  w.write("/clusters/first_step", {n}, first_step, "time step of the window's first frame", "1", per_run);
+  w.write("/clusters/last_step", {n}, last_step, "time step of the window's last frame", "1", per_run);
+  w.write("/clusters/count", {n}, int_column(n, [&](std::size_t i) { return c[i].count; }), "clusters", "1", per_run);
+}
+
+}  // namespace
+
+namespace {
+
+const char* const kInput = "path of the trajectory as given on the command line";
+
+template <class Row>
+std::vector<io::RowColumn<Row>> identity_columns() {
+  return {io::text<Row>("input", kInput, [](const Row& r) { return r.run.path; }),
+          io::real<Row>(io::identity_column("packing_fraction"), [](const Row& r) { return r.run.packing_fraction; }),
+          io::real<Row>(io::identity_column("restitution"), [](const Row& r) { return r.run.restitution; }),
+          io::real<Row>(io::identity_column("friction"), [](const Row& r) { return r.run.friction; })};
+}
+
+}  // namespace
+
+const std::vector<io::RowColumn<RunsRow>>& run_columns() {
+  using Row = RunsRow;
+  static const std::vector<io::RowColumn<Row>> columns = [] {
+    std::vector<io::RowColumn<Row>> c = identity_columns<Row>();
+    const std::vector<io::RowColumn<Row>> more = {
+        io::real<Row>({"tangential_restitution", "1", "tangential restitution e_t (the run's /parameters)"},
+                      [](const Row& r) { return r.run.tangential_restitution; }),
+        io::real<Row>(io::identity_column("rate"), [](const Row& r) { return r.run.rate; }),
+        io::integer<Row>(io::identity_column("grains"), [](const Row& r) { return std::int32_t(r.run.grains); }),
+        io::integer("frames", "1",
+                    "stored frames averaged (strain >= from_strain, or past the run's transient with detect_transient)",
+                    &Row::frames),
+        io::integer("blocks", "1", "blocks of consecutive frames for the jackknife and bootstrap errors", &Row::blocks),
+        io::real("first_strain", "1", "shear strain of the first frame averaged", &Row::first_strain),
+        io::real("last_strain", "1", "shear strain of the last frame averaged", &Row::last_strain),
+        io::real("contacts", "1", "contacts (F_n > 0) in the frames averaged", &Row::contacts)};
+    c.insert(c.end(), more.begin(), more.end());
+    return c;
+  }();
+  return columns;
+}
+
+const std::vector<io::RowColumn<ReferenceRow>>& reference_columns() {
+  using Row = ReferenceRow;
+  static const std::vector<io::RowColumn<Row>> columns = [] {
+    std::vector<io::RowColumn<Row>> c = identity_columns<Row>();
+    const std::vector<io::RowColumn<Row>> more = {
+        io::real("xi", "length", "xi (eq. 5.2) of the reference run", &Row::xi, "jackknife standard error of xi",
+                 &Row::xi_error),
+        io::real("xi_length", "length", "xi_length (eq. 5.2 with C per unit length) of the reference run",
+                 &Row::xi_length, "jackknife standard error of xi_length", &Row::xi_length_error),
+        io::real("xi_abs", "length", "xi_abs (decay length of |C|) of the reference run", &Row::xi_abs,
+                 "jackknife standard error of xi_abs", &Row::xi_abs_error)};
+    c.insert(c.end(), more.begin(), more.end());
+    return c;
+  }();
+  return columns;
+}
+
+void write_report(const std::string& path, const Report& report, const io::Parameters& provenance) {
+  io::AnalysisWriter w(path);
+  w.write_parameters(provenance);
+  const Target t{w, report, report.runs.size(), rows_note()};
+  write_runs_table(t);
+  w.write_attributes("/correlation", correlation_attributes(report));
+  write_isotropic(t);
+  write_magnitude(t);
+  write_anisotropy(t);
+  write_map(t);
+  write_forces(t);
+  if (!report.references.empty()) write_reference(t);
+  if (!report.crossings.empty()) write_sweep(t);
+  if (!report.clusters.empty()) write_clusters(t);
   w.close();
 }
 

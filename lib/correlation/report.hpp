@@ -33,12 +33,32 @@
 //   /clusters/          (with --clusters-window) label [ΣN], position [ΣN][2],
 //                       grain_offset [R+1], first_frame, last_frame, first_step, last_step,
 //                       count [R], box [R][3] (Lx, Ly, Lees–Edwards offset)
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "correlation/analysis.hpp"
+#include "io/run_identity.hpp"
+#include "io/table_writer.hpp"
 #include "io/trajectory.hpp"
 
 namespace granflow::correlation {
+
+// One row of /runs and of /reference, as their column declarations read them.
+struct RunsRow {
+  const io::RunIdentity& run;
+  std::int32_t frames = 0, blocks = 0;
+  double first_strain = 0, last_strain = 0, contacts = 0;
+};
+struct ReferenceRow {
+  const io::RunIdentity& run;
+  double xi = 0, xi_error = 0, xi_length = 0, xi_length_error = 0, xi_abs = 0, xi_abs_error = 0;
+};
+
+// The columns of /runs and /reference, each declared once (docs/file-format.md, gf-correlate
+// table, is checked against them).
+const std::vector<io::RowColumn<RunsRow>>& run_columns();
+const std::vector<io::RowColumn<ReferenceRow>>& reference_columns();
 
 // Writes the file at path (the caller's temporary; see OutputFile).
 void write_report(const std::string& path, const Report& report, const io::Parameters& provenance);

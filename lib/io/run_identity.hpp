@@ -16,18 +16,23 @@ struct RunIdentity {
   std::string path;    // as given
   std::string sha256;  // empty unless asked for
   std::size_t grains = 0;
-  // /parameters: packing_fraction, restitution, friction, dt (each required: UsageError naming
-  // the file if absent); tangential-restitution (NaN if absent).
-  double packing_fraction = 0, restitution = 0, friction = 0, dt = 0;
+  // /parameters: packing_fraction, restitution, friction (required: UsageError naming the file
+  // if absent); tangential-restitution (NaN if absent); dt (NaN unless asked for, then required).
+  double packing_fraction = 0, restitution = 0, friction = 0;
   double tangential_restitution = std::numeric_limits<double>::quiet_NaN();
+  double dt = std::numeric_limits<double>::quiet_NaN();
   double rate = 0;  // /lees_edwards rate (0 without)
   Box box{};        // of the first stored frame
 };
 
-// Reads the identity of an opened trajectory (reader.parameters() once); hash: also the
-// file's SHA-256.
-RunIdentity read_run_identity(const TrajectoryReader& reader, const std::string& path, bool hash = false);
+// What a program needs beyond the parameters every table records.
+struct IdentityNeeds {
+  bool hash = false;  // the file's SHA-256
+  bool dt = false;    // /parameters dt, required
+};
+
+// Reads the identity of an opened trajectory whose /parameters are given (reader.parameters()).
 RunIdentity read_run_identity(const TrajectoryReader& reader, const Parameters& parameters, const std::string& path,
-                              bool hash = false);
+                              IdentityNeeds needs = {});
 
 }  // namespace granflow::io

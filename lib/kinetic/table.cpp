@@ -126,7 +126,7 @@ RunData read_run(const std::string& path, const Settings& settings, bool need_fr
   const shear_run::Window w = window(o, path, settings);
 
   RunData run;
-  static_cast<io::RunIdentity&>(run) = io::read_run_identity(o.reader, o.parameters, path);
+  static_cast<io::RunIdentity&>(run) = io::read_run_identity(o.reader, o.parameters, path, {.hash = false, .dt = true});
   const io::GrainProperties grains = o.reader.grains();
   run.mean_mass = mean(grains.mass);
   run.mean_diameter = 2 * mean(grains.radius);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "correlation/report.hpp"
 #include "io/table_writer.hpp"
 #include "io/units.hpp"
 #include "kinetic/table.hpp"
@@ -126,4 +127,9 @@ TEST(TableColumns, ErrorColumnFollowsItsValue) {
 TEST(TableColumns, GfKineticAsDocumented) {
   expect_documented("gf-kinetic table", "/runs", io::table_datasets(kinetic::run_columns()));
   expect_documented("gf-kinetic table", "/equilibrium", io::table_datasets(kinetic::equilibrium_columns()));
+}
+
+TEST(TableColumns, GfCorrelateAsDocumented) {
+  expect_documented("gf-correlate table", "/runs", io::table_datasets(correlation::run_columns()));
+  expect_documented("gf-correlate table", "/reference", io::table_datasets(correlation::reference_columns()));
 }
