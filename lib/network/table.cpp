@@ -15,6 +15,8 @@
 #include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/run_identity.hpp"
+#include "io/table_writer.hpp"
 #include "network/geometric_contacts.hpp"
 #include "network/network.hpp"
 #include "statistics/delta.hpp"
@@ -24,6 +26,7 @@ namespace granflow::network {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kPerRun = "one row per RUN.h5, in command-line order";
 
 using statistics::delta_error;
 using statistics::mean;
@@ -145,19 +148,19 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     throw bad("no stored frame in the window (steps " + std::to_string(w.previous_step + 1) + " to " +
               std::to_string(o.step.back()) +
               "); store more frames (gf-shear --frame-every) or start the window earlier (--from-strain)");
-  const io::Parameters& p = o.parameters;
+  const io::RunIdentity id = io::read_run_identity(o.reader, o.parameters, path, {.hash = false, .dt = true});
   RunRow row;
   row.input = path;
-  const std::size_t n = o.reader.grain_count();
+  const std::size_t n = id.grains;
   row.grains = std::int32_t(n);
   row.frames = std::int32_t(frames.size());
   auto& r = row.runs;
-  r["packing_fraction"] = p.get_double("packing_fraction");
-  r["restitution"] = p.get_double("restitution");
-  r["friction"] = p.get_double("friction");
-  r["tangential_restitution"] = p.has("tangential-restitution") ? p.get_double("tangential-restitution") : kNaN;
-  r["rate"] = o.rate;
-  r["dt"] = p.get_double("dt");
+  r["packing_fraction"] = id.packing_fraction;
+  r["restitution"] = id.restitution;
+  r["friction"] = id.friction;
+  r["tangential_restitution"] = id.tangential_restitution;
+  r["rate"] = id.rate;
+  r["dt"] = id.dt;
   r["first_strain"] = std::fabs(o.strain[w.first_row]);
   r["last_strain"] = std::fabs(o.strain.back());
 
@@ -364,143 +367,180 @@ Table analyse(const std::vector<std::string>& runs, const TableSettings& setting
 
 // ---- Output
 
-namespace {
-
-struct Column {
-  std::string name;
-  const char* units;
-  std::string meaning;
-};
-
-const char* const kStress = "mass/time^2";
-
-std::vector<Column> run_columns() {
-  std::vector<Column> c = {
-      {"packing_fraction", "1", "packing fraction ν (the run's /parameters)"},
-      {"restitution", "1", "normal restitution e (the run's /parameters)"},
-      {"friction", "1", "Coulomb friction μ (the run's /parameters)"},
-      {"tangential_restitution", "1", "tangential restitution e_t (the run's /parameters; NaN if absent)"},
-      {"rate", "1/time", "shear rate γ̇ (the run's /lees_edwards rate)"},
-      {"dt", "time", "time step (the run's /parameters)"},
-      {"first_strain", "1", "shear strain of the first observable row of the window"},
-      {"last_strain", "1", "shear strain of the last observable row of the window"},
-      {"contacts", "1",
-       "contacts per frame, window mean: force-bearing (P_n > 0), or with contact_gap in /parameters geometric "
-       "(gap <= contact_gap mean diameters at the frame's positions)"},
-      {"long_lived", "1",
-       "long-lived contacts (age >= 2: in contact in this step and the previous one; geometric: within the gap at "
-       "the frame and one step earlier) per frame"},
-      {"coordination", "1", "z = 2 long_lived / N over all grains (ratio of window means)"},
-      {"coordination_active", "1",
-       "z over the grains with at least one long-lived contact: 2 long_lived / those grains"},
-      {"mean_cos_deflection", "1",
-       "<cos x> over pairs of distinct long-lived contacts of one grain, cos x = -u_Im.u_IJ (straight chain: 1)"},
-      {"mean_cos_cos2_deflection", "1", "<cos x cos 2x> over the same pairs"},
-      {"Phi", "1", "Phi = 2 <cos x> (the thesis' normalisation, eq. 6.23)"},
-      {"Psi", "1", "Psi = 2 <cos x cos 2x> (eq. 6.23)"},
-      {"phi_11", "1", "fabric <n_x n_x> over all contacts"},
-      {"phi_22", "1", "fabric <n_y n_y> over all contacts"},
-      {"phi_12", "1", "fabric <n_x n_y> over all contacts"},
-      {"chi_11", "1", "force fabric <F_bc n_x n_x>/<F_bc> over all contacts (F_bc the stored binary_force)"},
-      {"chi_22", "1", "force fabric <F_bc n_y n_y>/<F_bc>"},
-      {"chi_12", "1", "force fabric <F_bc n_x n_y>/<F_bc>"},
-      {"a_c", "1", "a_c = 4 phi_12: sin 2theta amplitude of C(theta) (eq. 6.20; negative in granflow's shear)"},
-      {"a_c_prime", "1", "a'_c = 2 (phi_11 - phi_22): cos 2theta amplitude of C(theta)"},
-      {"a_f", "1", "a_f of F_bc(theta) (eq. 6.21), exact inversion of chi given a_c, a'_c"},
-      {"a_f_prime", "1", "a'_f of F_bc(theta), exact inversion"},
-      {"shear_ratio_collisional_frames", "1",
-       "s^bc/p^bc from the frames: -<|b| F_bc sin 2theta>/<|b| F_bc> (exact for the frames whatever sigma(theta))"}};
-  std::vector<Column> out;
-  for (const Column& col : c) {
-    out.push_back(col);
-    const std::string name = col.name;
+const std::vector<io::Column>& run_columns() {
+  static const std::vector<io::Column> columns = [] {
+    const char* const stress = "mass/time^2";
+    auto id = io::identity_column;
+    std::vector<io::Column> c = {
+        {"input", {}, "path of the trajectory as given on the command line", {}, {}, io::ColumnType::text},
+        id("grains"),
+        {"frames", "1", "stored frames in the window (those written by its steps)", {}, {}, io::ColumnType::int32},
+        id("packing_fraction"),
+        id("restitution"),
+        id("friction"),
+        id("tangential_restitution"),
+        id("rate"),
+        id("dt"),
+        {"first_strain", "1", "shear strain of the first observable row of the window"},
+        {"last_strain", "1", "shear strain of the last observable row of the window"},
+        {"contacts", "1",
+         "contacts per frame, window mean: force-bearing (P_n > 0), or with contact_gap in /parameters geometric "
+         "(gap <= contact_gap mean diameters at the frame's positions)"},
+        {"long_lived", "1",
+         "long-lived contacts (age >= 2: in contact in this step and the previous one; geometric: within the gap "
+         "at the frame and one step earlier) per frame"},
+        {"coordination", "1", "z = 2 long_lived / N over all grains (ratio of window means)"},
+        {"coordination_active", "1",
+         "z over the grains with at least one long-lived contact: 2 long_lived / those grains"},
+        {"mean_cos_deflection", "1",
+         "<cos x> over pairs of distinct long-lived contacts of one grain, cos x = -u_Im.u_IJ (straight chain: 1)"},
+        {"mean_cos_cos2_deflection", "1", "<cos x cos 2x> over the same pairs"},
+        {"Phi", "1", "Phi = 2 <cos x> (the thesis' normalisation, eq. 6.23)"},
+        {"Psi", "1", "Psi = 2 <cos x cos 2x> (eq. 6.23)"},
+        {"phi_11", "1", "fabric <n_x n_x> over all contacts"},
+        {"phi_22", "1", "fabric <n_y n_y> over all contacts"},
+        {"phi_12", "1", "fabric <n_x n_y> over all contacts"},
+        {"chi_11", "1", "force fabric <F_bc n_x n_x>/<F_bc> over all contacts (F_bc the stored binary_force)"},
+        {"chi_22", "1", "force fabric <F_bc n_y n_y>/<F_bc>"},
+        {"chi_12", "1", "force fabric <F_bc n_x n_y>/<F_bc>"},
+        {"a_c", "1", "a_c = 4 phi_12: sin 2theta amplitude of C(theta) (eq. 6.20; negative in granflow's shear)"},
+        {"a_c_prime", "1", "a'_c = 2 (phi_11 - phi_22): cos 2theta amplitude of C(theta)"},
+        {"a_f", "1", "a_f of F_bc(theta) (eq. 6.21), exact inversion of chi given a_c, a'_c"},
+        {"a_f_prime", "1", "a'_f of F_bc(theta), exact inversion"},
+        {"shear_ratio_collisional_frames", "1",
+         "s^bc/p^bc from the frames: -<|b| F_bc sin 2theta>/<|b| F_bc> (exact for the frames whatever "
+         "sigma(theta))"}};
     // The frame quantities of /runs carry their delta-method error beside them.
-    if (std::find(kRunQuantities.begin(), kRunQuantities.end(), name) != kRunQuantities.end())
-      out.push_back({name + "_error", col.units,
-                     "standard error of " + name + " (delta method over the frames, covariances included)"});
-  }
-  return out;
+    for (io::Column& col : c)
+      if (std::find(kRunQuantities.begin(), kRunQuantities.end(), col.name) != kRunQuantities.end()) {
+        col.error = col.name + "_error";
+        col.error_meaning = "standard error of " + col.name + " (delta method over the frames, covariances included)";
+      }
+    const std::vector<io::Column> more = {
+        {"fabric_norm", "1", "D = 1 + (a_c a_f + a'_c a'_f)/2 = <F_bc> contact-weighted / <F_bc> angle-averaged"},
+        {"a_f_first_order", "1", "first-order reading a_f = 4 chi_12 - a_c"},
+        {"a_f_prime_first_order", "1", "first-order reading a'_f = 2 (chi_11 - chi_22) - a'_c"},
+        {"a4_c", "1", "sin 4theta coefficient of C(theta)/<C> from the pooled histogram (bin-average corrected)",
+         "a4_c_error", "block-jackknife standard error of a4_c (--blocks contiguous blocks of frames)"},
+        {"a4_c_prime", "1", "cos 4theta coefficient of C(theta)/<C>", "a4_c_prime_error",
+         "block-jackknife standard error of a4_c_prime"},
+        {"a4_f", "1", "sin 4theta coefficient of F_bc(theta)/<F_bc> (per-bin mean binary force)", "a4_f_error",
+         "block-jackknife standard error of a4_f"},
+        {"a4_f_prime", "1", "cos 4theta coefficient of F_bc(theta)/<F_bc>", "a4_f_prime_error",
+         "block-jackknife standard error of a4_f_prime"},
+        {"mean_binary_force", "force", "<F_bc> over all contacts of the window (contact-weighted)"},
+        {"sigma_anisotropy", "1",
+         "amplitude sqrt(s^2 + c^2) of the 2theta harmonic of sigma(theta)/<sigma> (/histograms/sigma, the "
+         "per-bin mean |b|, bin-average corrected): sigma(theta)'s own anisotropy, C(theta)'s excluded; NaN if a "
+         "bin is empty"},
+        {"sigma_max_deviation", "1", "max over the angle bins of |sigma(theta_k)/<sigma> - 1| (/histograms/sigma)"},
+        {"p_static", stress, "static pressure p^s = (Sxx + Syy)/2 of stress_static, window mean of the rows",
+         "p_static_error", "blocked standard error of p_static"},
+        {"p_collisional", stress, "collisional pressure p^bc of stress_collisional", "p_collisional_error",
+         "blocked standard error of p_collisional"},
+        {"s_static", stress, "static shear stress s^s = -Sxy of stress_static (positive for rate > 0)",
+         "s_static_error", "blocked standard error of s_static"},
+        {"s_collisional", stress, "collisional shear stress s^bc = -Sxy of stress_collisional", "s_collisional_error",
+         "blocked standard error of s_collisional"},
+        {"sxx_static", stress, "Sxx of stress_static", "sxx_static_error", "blocked standard error of sxx_static"},
+        {"sxx_collisional", stress, "Sxx of stress_collisional", "sxx_collisional_error",
+         "blocked standard error of sxx_collisional"},
+        {"shear_ratio_collisional", "1", "s^bc/p^bc from the rows (= -2 chi_12 when sigma(theta) is constant)",
+         "shear_ratio_collisional_error", "delta-method error of shear_ratio_collisional"}};
+    c.insert(c.end(), more.begin(), more.end());
+    return c;
+  }();
+  return columns;
 }
 
-}  // namespace
+std::vector<io::Column> prediction_columns(correlation::XiReading xi) {
+  std::vector<io::Column> c;
+  for (const char* side : {"pressure", "shear", "xx"}) {
+    const std::string s = side;
+    const char* what = s == "pressure" ? "(p^s - p^bc)/p^bc"
+                       : s == "shear"  ? "(s^s - s^bc)/p^bc"
+                                       : "(Sxx^s - Sxx^bc)/p^bc";
+    const char* eq = s == "pressure" ? "6.27" : s == "shear" ? "6.28" : "6.29";
+    c.push_back({"lhs_" + s, "1",
+                 std::string("measured ") + what + " from the window's rows (left side of eq. " + eq + ")",
+                 "lhs_" + s + "_error", "delta-method error of lhs_" + s});
+    const std::pair<const char*, const char*> readings[] = {
+        {"", "z = coordination, Phi, Psi (thesis' normalisation), sums continued to the non-integer limit"},
+        {"_floor", "the main reading with the sums up to floor(xi/xi_el - 1)"},
+        {"_active", "z = coordination_active, otherwise the main reading"},
+        {"_unit", "Phi = mean_cos_deflection, Psi = mean_cos_cos2_deflection, otherwise the main reading"}};
+    for (const auto& [suffix, reading] : readings) {
+      const std::string name = "rhs_" + s + suffix;
+      c.push_back({name, "1", std::string("predicted ") + what + " (right side of eq. " + eq + "): " + reading,
+                   name + "_error",
+                   "error of " + name + ": delta method over the frames plus d/d(xi/xi_el) times xi_ratio_error"});
+    }
+  }
+  c.push_back({"xi_ratio", "1",
+               std::string("xi/xi_el of the correlation table (its ") + correlation::xi_ratio_dataset(xi) + ")",
+               "xi_ratio_error", "standard error of xi_ratio (the table's)"});
+  c.push_back({"xi_measurable",
+               "1",
+               "1: the table marks the run's xi measurable (--xi abs: its measurable; signed, signed-length: the "
+               "ratio finite)",
+               {},
+               {},
+               io::ColumnType::int32});
+  c.push_back({"sum_limit", "1", "L = max(xi/xi_el - 1, 0), the upper limit of the sums over links"});
+  c.push_back({"network_factor", "1", "M = min(Phi (z - 1), 1)"});
+  c.push_back({"path_factor", "1", "Q = Psi (z - 1)"});
+  c.push_back({"continuation_real",
+               "1",
+               "1: the continued sums are real; 0: a negative base with a non-integer limit (floor values used)",
+               {},
+               {},
+               io::ColumnType::int32});
+  return c;
+}
 
-void write_table(const std::string& path, const Table& table, const io::Parameters& provenance) {
-  io::AnalysisWriter w(path);
-  // The settings also under the names the readers of the table use (underscores).
-  io::Parameters parameters = provenance;
-  parameters.set("from_strain", table.settings.window.from_strain);
-  parameters.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
-  parameters.set("angle_bins", std::int64_t(table.settings.angle_bins));
-  parameters.set("deflection_bins", std::int64_t(table.settings.deflection_bins));
-  parameters.set("blocks", std::int64_t(table.settings.blocks));
-  if (table.has_correlation) parameters.set("xi", correlation::xi_reading_name(table.settings.xi));
-  w.write_parameters(parameters);
-  io::Parameters per_run;
-  per_run.set("rows", "one row per RUN.h5, in command-line order");
-  const std::size_t n = table.runs.size();
-  const auto& runs = table.runs;
-  auto column = [&](const std::map<std::string, double> RunRow::*group, const std::string& name) {
+namespace {
+
+// A per-run group (/runs, /prediction) of declared columns: the reals from the row's map
+// (NaN where absent), the integers and texts from its members.
+void write_group(io::AnalysisWriter& w, const std::string& group, const std::vector<io::Column>& columns,
+                 const std::vector<RunRow>& runs, const std::map<std::string, double> RunRow::*values) {
+  io::TableWriter table(w, group, kPerRun);
+  auto real = [&](const std::string& name) {
     std::vector<double> out;
     for (const RunRow& r : runs) {
-      const auto it = (r.*group).find(name);
-      out.push_back(it == (r.*group).end() ? kNaN : it->second);
+      const auto it = (r.*values).find(name);
+      out.push_back(it == (r.*values).end() ? kNaN : it->second);
     }
     return out;
   };
-  auto real = [&](const std::string& name, const char* units, const std::string& meaning) {
-    w.write("/runs/" + name, {n}, column(&RunRow::runs, name), meaning, units, per_run);
+  auto integer = [&](std::int32_t RunRow::*member) {
+    std::vector<std::int64_t> out;
+    for (const RunRow& r : runs) out.push_back(r.*member);
+    return out;
   };
-  auto predicted = [&](const std::string& name, const char* units, const std::string& meaning) {
-    w.write("/prediction/" + name, {n}, column(&RunRow::prediction, name), meaning, units, per_run);
-  };
-  auto integers = [&](const std::string& path_name, std::int32_t RunRow::*member, const std::string& meaning) {
-    std::vector<std::int32_t> v;
-    for (const RunRow& r : runs) v.push_back(r.*member);
-    w.write(path_name, {n}, v, meaning, "1", per_run);
-  };
+  const std::map<std::string, std::int32_t RunRow::*> integers = {{"grains", &RunRow::grains},
+                                                                  {"frames", &RunRow::frames},
+                                                                  {"xi_measurable", &RunRow::xi_measurable},
+                                                                  {"continuation_real", &RunRow::continuation_real}};
+  for (const io::Column& c : columns) {
+    if (c.type == io::ColumnType::text) {
+      std::vector<std::string> inputs;
+      for (const RunRow& r : runs) inputs.push_back(r.input);
+      table.write(c, inputs);
+    } else if (c.type == io::ColumnType::int32) {
+      table.write(c, integer(integers.at(c.name)));
+    } else {
+      table.write(c, real(c.name), c.error.empty() ? std::vector<double>{} : real(c.error));
+    }
+  }
+}
 
-  std::vector<std::string> inputs;
-  for (const RunRow& r : runs) inputs.push_back(r.input);
-  w.write("/runs/input", inputs, "path of the trajectory as given on the command line");
-  integers("/runs/grains", &RunRow::grains, "grains N");
-  integers("/runs/frames", &RunRow::frames, "stored frames in the window (those written by its steps)");
-  std::vector<Column> columns = run_columns();
-  // Names after the error columns, with their own meaning.
-  const std::vector<Column> more = {
-      {"fabric_norm", "1", "D = 1 + (a_c a_f + a'_c a'_f)/2 = <F_bc> contact-weighted / <F_bc> angle-averaged"},
-      {"a_f_first_order", "1", "first-order reading a_f = 4 chi_12 - a_c"},
-      {"a_f_prime_first_order", "1", "first-order reading a'_f = 2 (chi_11 - chi_22) - a'_c"},
-      {"a4_c", "1", "sin 4theta coefficient of C(theta)/<C> from the pooled histogram (bin-average corrected)"},
-      {"a4_c_error", "1", "block-jackknife standard error of a4_c (--blocks contiguous blocks of frames)"},
-      {"a4_c_prime", "1", "cos 4theta coefficient of C(theta)/<C>"},
-      {"a4_c_prime_error", "1", "block-jackknife standard error of a4_c_prime"},
-      {"a4_f", "1", "sin 4theta coefficient of F_bc(theta)/<F_bc> (per-bin mean binary force)"},
-      {"a4_f_error", "1", "block-jackknife standard error of a4_f"},
-      {"a4_f_prime", "1", "cos 4theta coefficient of F_bc(theta)/<F_bc>"},
-      {"a4_f_prime_error", "1", "block-jackknife standard error of a4_f_prime"},
-      {"mean_binary_force", "force", "<F_bc> over all contacts of the window (contact-weighted)"},
-      {"sigma_anisotropy", "1",
-       "amplitude sqrt(s^2 + c^2) of the 2theta harmonic of sigma(theta)/<sigma> (/histograms/sigma, the per-bin "
-       "mean |b|, bin-average corrected): sigma(theta)'s own anisotropy, C(theta)'s excluded; NaN if a bin is empty"},
-      {"sigma_max_deviation", "1", "max over the angle bins of |sigma(theta_k)/<sigma> - 1| (/histograms/sigma)"},
-      {"p_static", kStress, "static pressure p^s = (Sxx + Syy)/2 of stress_static, window mean of the rows"},
-      {"p_static_error", kStress, "blocked standard error of p_static"},
-      {"p_collisional", kStress, "collisional pressure p^bc of stress_collisional"},
-      {"p_collisional_error", kStress, "blocked standard error of p_collisional"},
-      {"s_static", kStress, "static shear stress s^s = -Sxy of stress_static (positive for rate > 0)"},
-      {"s_static_error", kStress, "blocked standard error of s_static"},
-      {"s_collisional", kStress, "collisional shear stress s^bc = -Sxy of stress_collisional"},
-      {"s_collisional_error", kStress, "blocked standard error of s_collisional"},
-      {"sxx_static", kStress, "Sxx of stress_static"},
-      {"sxx_static_error", kStress, "blocked standard error of sxx_static"},
-      {"sxx_collisional", kStress, "Sxx of stress_collisional"},
-      {"sxx_collisional_error", kStress, "blocked standard error of sxx_collisional"},
-      {"shear_ratio_collisional", "1", "s^bc/p^bc from the rows (= -2 chi_12 when sigma(theta) is constant)"},
-      {"shear_ratio_collisional_error", "1", "delta-method error of shear_ratio_collisional"}};
-  columns.insert(columns.end(), more.begin(), more.end());
-  for (const Column& c : columns) real(c.name, c.units, c.meaning);
-
-  // Histograms.
+// /histograms: C(θ), F_bc(θ), σ(θ) per angle bin and P_C(x) per deflection bin, per run.
+void write_histograms(io::AnalysisWriter& w, const Table& table) {
+  const std::size_t n = table.runs.size();
+  const auto& runs = table.runs;
+  io::Parameters per_run;
+  per_run.set("rows", kPerRun);
   const std::size_t K = table.settings.angle_bins, D = table.settings.deflection_bins;
   std::vector<double> theta(K), deflection(D);
   for (std::size_t k = 0; k < K; ++k) theta[k] = (double(k) + 0.5) * std::numbers::pi / double(K);
@@ -524,41 +564,25 @@ void write_table(const std::string& path, const Table& table, const io::Paramete
   w.write("/histograms/P_C", {n, D}, matrix(&RunRow::P_C),
           "P_C(x): pairs in the |x| bin / (2 pairs dx), a density over x in [-pi, pi] (integral 1)", "1/radian",
           per_run);
+}
 
-  // Prediction.
-  for (const char* side : {"pressure", "shear", "xx"}) {
-    const std::string s = side;
-    const char* what = s == "pressure" ? "(p^s - p^bc)/p^bc"
-                       : s == "shear"  ? "(s^s - s^bc)/p^bc"
-                                       : "(Sxx^s - Sxx^bc)/p^bc";
-    const char* eq = s == "pressure" ? "6.27" : s == "shear" ? "6.28" : "6.29";
-    predicted("lhs_" + s, "1",
-              std::string("measured ") + what + " from the window's rows (left side of eq. " + eq + ")");
-    predicted("lhs_" + s + "_error", "1", "delta-method error of lhs_" + s);
-    const std::pair<const char*, const char*> readings[] = {
-        {"", "z = coordination, Phi, Psi (thesis' normalisation), sums continued to the non-integer limit"},
-        {"_floor", "the main reading with the sums up to floor(xi/xi_el - 1)"},
-        {"_active", "z = coordination_active, otherwise the main reading"},
-        {"_unit", "Phi = mean_cos_deflection, Psi = mean_cos_cos2_deflection, otherwise the main reading"}};
-    for (const auto& [suffix, reading] : readings) {
-      const std::string name = "rhs_" + s + suffix;
-      predicted(name, "1", std::string("predicted ") + what + " (right side of eq. " + eq + "): " + reading);
-      predicted(name + "_error", "1",
-                "error of " + name + ": delta method over the frames plus d/d(xi/xi_el) times xi_ratio_error");
-    }
-  }
-  predicted(
-      "xi_ratio", "1",
-      std::string("xi/xi_el of the correlation table (its ") + correlation::xi_ratio_dataset(table.settings.xi) + ")");
-  predicted("xi_ratio_error", "1", "standard error of xi_ratio (the table's)");
-  integers("/prediction/xi_measurable", &RunRow::xi_measurable,
-           "1: the table marks the run's xi measurable (--xi abs: its measurable; signed, signed-length: the "
-           "ratio finite)");
-  predicted("sum_limit", "1", "L = max(xi/xi_el - 1, 0), the upper limit of the sums over links");
-  predicted("network_factor", "1", "M = min(Phi (z - 1), 1)");
-  predicted("path_factor", "1", "Q = Psi (z - 1)");
-  integers("/prediction/continuation_real", &RunRow::continuation_real,
-           "1: the continued sums are real; 0: a negative base with a non-integer limit (floor values used)");
+}  // namespace
+
+void write_table(const std::string& path, const Table& table, const io::Parameters& provenance) {
+  io::AnalysisWriter w(path);
+  // The settings also under the names the readers of the table use (underscores).
+  io::Parameters parameters = provenance;
+  parameters.set("from_strain", table.settings.window.from_strain);
+  parameters.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
+  parameters.set("angle_bins", std::int64_t(table.settings.angle_bins));
+  parameters.set("deflection_bins", std::int64_t(table.settings.deflection_bins));
+  parameters.set("blocks", std::int64_t(table.settings.blocks));
+  if (table.has_correlation) parameters.set("xi", correlation::xi_reading_name(table.settings.xi));
+  w.write_parameters(parameters);
+  const auto& runs = table.runs;
+  write_group(w, "/runs", run_columns(), runs, &RunRow::runs);
+  write_histograms(w, table);
+  write_group(w, "/prediction", prediction_columns(table.settings.xi), runs, &RunRow::prediction);
   io::Parameters group;
   group.set("xi_source", !table.has_correlation ? "none" : correlation::xi_ratio_dataset(table.settings.xi));
   w.write_attributes("/prediction", group);

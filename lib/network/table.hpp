@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "correlation/table_lookup.hpp"
+#include "io/table_writer.hpp"
 #include "io/trajectory.hpp"
 #include "shear/steady_window.hpp"
 
@@ -64,6 +65,11 @@ std::vector<XiValue> read_correlation(const std::string& table, const std::vecto
 // The whole analysis, with a progress bar over the stored frames of every run unless
 // settings.quiet. UsageError (one line naming the file) for any input it cannot use.
 Table analyse(const std::vector<std::string>& runs, const TableSettings& settings);
+
+// The columns of /runs and of /prediction (whose xi_ratio names the --xi reading), each
+// declared once (docs/file-format.md, gf-network table, is checked against them).
+const std::vector<io::Column>& run_columns();
+std::vector<io::Column> prediction_columns(correlation::XiReading xi);
 
 // Writes the table with the provenance in /parameters.
 void write_table(const std::string& path, const Table& table, const io::Parameters& provenance);
