@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <stdexcept>
@@ -16,6 +17,8 @@
 #include "correlation/table_lookup.hpp"
 #include "io/analysis_writer.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/run_identity.hpp"
+#include "io/table_writer.hpp"
 #include "statistics/delta.hpp"
 
 namespace granflow::stz {
@@ -87,15 +90,15 @@ FitRunRow read_shear_row(const std::string& path, const shear_run::WindowSetting
   if (!(o.rate != 0) || !std::isfinite(o.rate))
     throw bad("not sheared (shear rate " + format_number(o.rate) + "): gf-stz fit needs steady shear runs");
   const shear_run::Window w = shear_run::window(o, path, window);
-  const io::Parameters& p = o.parameters;
+  const io::RunIdentity id = io::read_run_identity(o.reader, o.parameters, path, {.hash = true, .dt = false});
 
   FitRunRow row;
   row.input = path;
-  row.input_sha256 = sha256_file(path);
+  row.input_sha256 = id.sha256;
   row.kind = "shear";
-  row.friction = p.get_double("friction");
-  row.restitution = p.get_double("restitution");
-  row.packing_fraction = p.get_double("packing_fraction");
+  row.friction = id.friction;
+  row.restitution = id.restitution;
+  row.packing_fraction = id.packing_fraction;
 
   const io::GrainProperties grains = o.reader.grains();
   double mass = 0, area = 0;
@@ -355,67 +358,133 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
   return table;
 }
 
+const std::vector<io::RowColumn<FitRunRow>>& run_columns() {
+  using Row = FitRunRow;
+  using io::flag, io::real, io::text;
+  static const std::vector<io::RowColumn<Row>> columns = {
+      text("input", "path of the run (shear) or of the incline run as its table gives it (incline)", &Row::input),
+      text("input_sha256", "SHA-256 of that file", &Row::input_sha256),
+      text("kind", "shear: a RUN.h5; incline: a flowing row of an --incline table", &Row::kind),
+      real(io::identity_column("friction"), &Row::friction),
+      real(io::identity_column("restitution"), &Row::restitution),
+      real("packing_fraction", "1", "ν: the run's /parameters (shear), the bulk mean (incline)",
+           &Row::packing_fraction),
+      real("rate_R_over_sqrt_T", "1",
+           "x = |γ̇|⟨R⟩/√T̄, T the temperature observable (eq. 4.5) over the window (shear); /bulk/inertial (incline)",
+           &Row::rate_R_over_sqrt_T,
+           "its error: delta method over the blocked standard error (shear); /bulk/inertial_error (incline)",
+           &Row::rate_R_over_sqrt_T_error),
+      real("s_over_p", "1",
+           "μ = s̄/p̄, s = −Σxy and p of the total stress over the window (shear); /bulk/s_over_p (incline)",
+           &Row::s_over_p,
+           "its error: delta method over the blocked standard errors (shear); /bulk/s_over_p_error (incline)",
+           &Row::s_over_p_error),
+      real("inertial_number", "1",
+           "I = |γ̇|d/√(p̄/ρ_p), d = 2⟨R⟩, ρ_p = Σm/Σ(πR²) (shear); 2x√(q/π), q = /bulk/mT_over_pR2 (incline)",
+           &Row::inertial_number,
+           "its error: delta method (shear); relative errors of x and √q in quadrature (incline)",
+           &Row::inertial_number_error),
+      real("xi_ratio", "1",
+           "ξ/ξ_el of the correlation table, a lower bound where xi_measurable is 0 (NaN: no table, an incline row, "
+           "or no value)",
+           &Row::xi_ratio),
+      flag("xi_measurable",
+           "the correlation table's measurable flag (0: the correlations reach the cell, xi_ratio is a lower bound; "
+           "0 without a table)",
+           &Row::xi_measurable),
+      flag("dense", "1 if dense by the rule of /fit's dense_rule", &Row::dense),
+      flag("fitted",
+           "1 if a point of its friction's fit: a shear row, restitution = fit_restitution, dense, x, s/p and I > 0",
+           &Row::fitted),
+      real("prediction", "1", "STZ s/p at the row's x with the fit of its friction (NaN: no fit for that friction)",
+           &Row::prediction),
+      real("residual", "1", "s_over_p − prediction", &Row::residual),
+      real("prediction_mu_of_I", "1", "μ(I) at the row's I with the fit of its friction (NaN: no fit)",
+           &Row::prediction_mu_of_I),
+      real("residual_mu_of_I", "1", "s_over_p − prediction_mu_of_I", &Row::residual_mu_of_I)};
+  return columns;
+}
+
+const std::vector<io::RowColumn<FitRow>>& fit_columns() {
+  using Row = FitRow;
+  using io::integer;
+  constexpr double kDegrees = 180 / std::numbers::pi;
+  // A real column (with its error column when error_meaning is given) read by functions of the row.
+  using Read = std::function<double(const Row&)>;
+  auto real = [](std::string name, std::string units, std::string meaning, Read value, std::string error_meaning = {},
+                 Read error = {}) {
+    std::string error_name = error ? name + "_error" : std::string();
+    return io::real<Row>(
+        {std::move(name), std::move(units), std::move(meaning), std::move(error_name), std::move(error_meaning)},
+        std::move(value), std::move(error));
+  };
+  // μ(I)'s values are NaN where the fit has none.
+  auto mu_of_I = [](double MuICoefficients::*member, bool error) {
+    return [member, error](const Row& f) {
+      return f.has_mu_of_I ? (error ? f.mu_of_I.error : f.mu_of_I.value).*member : kNaN;
+    };
+  };
+  auto coefficient = [](double StzCoefficients::*member, bool error) {
+    return [member, error](const Row& f) { return (error ? f.stz.error : f.stz.value).*member; };
+  };
+  static const std::vector<io::RowColumn<Row>> columns = {
+      real("friction", "1", "Coulomb friction μ of the fitted runs", [](const Row& f) { return f.friction; }),
+      integer("points", "1", "fitted runs (rows of /runs with fitted = 1 and this friction)", &Row::points),
+      real("A", "1", "A of eq. 6.36", coefficient(&StzCoefficients::A, false), "standard error of A",
+           coefficient(&StzCoefficients::A, true)),
+      real("kappa", "1", "κ of eq. 6.36", coefficient(&StzCoefficients::kappa, false), "standard error of κ",
+           coefficient(&StzCoefficients::kappa, true)),
+      real("zeta", "1", "ζ of eq. 6.36", coefficient(&StzCoefficients::zeta, false), "standard error of ζ",
+           coefficient(&StzCoefficients::zeta, true)),
+      real(
+          "tan_theta_star", "1", "tanθ*, root of ζ t tanh(κt) = 1 (eq. 6.35)",
+          [](const Row& f) { return f.stz.tan_theta_star; },
+          "its error (delta method over the covariance of κ, ζ; NaN where the coefficients are degenerate and the "
+          "covariance keeps no digit of it)",
+          [](const Row& f) { return f.stz.tan_theta_star_error; }),
+      real("tan_theta_star_jackknife_error", "1",
+           "its delete-one jackknife error over the fitted points (refits; NaN for fewer than 5 points)",
+           [](const Row& f) { return f.tan_theta_star_jackknife_error; }),
+      real(
+          "theta_star", "degrees", "repose angle θ*", [](const Row& f) { return f.stz.theta_star * kDegrees; },
+          "its error (from tan_theta_star_error)", [](const Row& f) { return f.stz.theta_star_error * kDegrees; }),
+      real("theta_star_jackknife_error", "degrees", "its error from tan_theta_star_jackknife_error",
+           [](const Row& f) {
+             const double t = f.stz.tan_theta_star;
+             return f.tan_theta_star_jackknife_error / (1 + t * t) * kDegrees;
+           }),
+      real("chi2", "1", "χ² of the STZ fit's weighted residuals (unweighted: sum of squares)",
+           [](const Row& f) { return f.stz.chi2; }),
+      integer("dof", "1", "points − 3", &Row::dof),
+      real("mu_s", "1", "μ_s of μ(I)", mu_of_I(&MuICoefficients::mu_s, false), "its standard error",
+           mu_of_I(&MuICoefficients::mu_s, true)),
+      real("mu_2", "1", "μ₂ of μ(I)", mu_of_I(&MuICoefficients::mu_2, false), "its standard error",
+           mu_of_I(&MuICoefficients::mu_2, true)),
+      real("I0", "1", "I₀ of μ(I)", mu_of_I(&MuICoefficients::I0, false), "its standard error",
+           mu_of_I(&MuICoefficients::I0, true)),
+      real("stz_rms", "1", "rms residual in s/p of the STZ law, fitted points", [](const Row& f) { return f.stz_rms; }),
+      real("mu_of_I_rms", "1", "rms residual in s/p of μ(I), fitted points",
+           [](const Row& f) { return f.mu_of_I_rms; }),
+      real("predicted_rms", "1", "rms STZ residual of the shear rows of this friction that are not fitted (NaN: none)",
+           [](const Row& f) { return f.predicted_rms; }),
+      integer("predicted_count", "1", "rows in predicted_rms", &Row::predicted_count),
+      real("incline_rms", "1", "rms STZ residual of the incline rows of this friction (NaN: none)",
+           [](const Row& f) { return f.incline_rms; }),
+      integer("incline_count", "1", "rows in incline_rms", &Row::incline_count),
+      real("mu_of_I_predicted_rms", "1", "rms μ(I) residual over the rows of predicted_rms",
+           [](const Row& f) { return f.mu_of_I_predicted_rms; }),
+      real("mu_of_I_incline_rms", "1", "rms μ(I) residual over the incline rows",
+           [](const Row& f) { return f.mu_of_I_incline_rms; })};
+  return columns;
+}
+
 void write_fit_table(const std::string& path, const FitTable& table, const io::Parameters& provenance) {
   io::AnalysisWriter w(path);
   w.write_parameters(provenance);
-  const auto& runs = table.runs;
-  const std::size_t n = runs.size();
-  io::Parameters per_run;
-  per_run.set("rows",
-              "one row per RUN.h5 in command-line order (kind shear), then the flowing rows of each --incline "
-              "table (kind incline)");
-  auto text = [&](const char* name, std::string FitRunRow::*member, const std::string& meaning) {
-    std::vector<std::string> v;
-    for (const FitRunRow& r : runs) v.push_back(r.*member);
-    w.write(std::string("/runs/") + name, v, meaning);
-  };
-  auto real = [&](const char* name, double FitRunRow::*member, const std::string& meaning, const char* units) {
-    std::vector<double> v;
-    for (const FitRunRow& r : runs) v.push_back(r.*member);
-    w.write(std::string("/runs/") + name, {n}, v, meaning, units, per_run);
-  };
-  auto flag = [&](const char* name, bool FitRunRow::*member, const std::string& meaning) {
-    std::vector<std::uint8_t> v;
-    for (const FitRunRow& r : runs) v.push_back(r.*member ? 1 : 0);
-    w.write(std::string("/runs/") + name, {n}, v, meaning, "1", per_run);
-  };
-  text("input", &FitRunRow::input, "path of the run (shear) or of the incline run as its table gives it (incline)");
-  text("input_sha256", &FitRunRow::input_sha256, "SHA-256 of that file");
-  text("kind", &FitRunRow::kind, "shear: a RUN.h5; incline: a flowing row of an --incline table");
-  real("friction", &FitRunRow::friction, "Coulomb friction μ (the run's /parameters)", "1");
-  real("restitution", &FitRunRow::restitution, "normal restitution e (the run's /parameters)", "1");
-  real("packing_fraction", &FitRunRow::packing_fraction, "ν: the run's /parameters (shear), the bulk mean (incline)",
-       "1");
-  real("rate_R_over_sqrt_T", &FitRunRow::rate_R_over_sqrt_T,
-       "x = |γ̇|⟨R⟩/√T̄, T the temperature observable (eq. 4.5) over the window (shear); /bulk/inertial (incline)", "1");
-  real("rate_R_over_sqrt_T_error", &FitRunRow::rate_R_over_sqrt_T_error,
-       "its error: delta method over the blocked standard error (shear); /bulk/inertial_error (incline)", "1");
-  real("s_over_p", &FitRunRow::s_over_p,
-       "μ = s̄/p̄, s = −Σxy and p of the total stress over the window (shear); "
-       "/bulk/s_over_p (incline)",
-       "1");
-  real("s_over_p_error", &FitRunRow::s_over_p_error,
-       "its error: delta method over the blocked standard errors (shear); /bulk/s_over_p_error (incline)", "1");
-  real("inertial_number", &FitRunRow::inertial_number,
-       "I = |γ̇|d/√(p̄/ρ_p), d = 2⟨R⟩, ρ_p = Σm/Σ(πR²) (shear); 2x√(q/π), q = /bulk/mT_over_pR2 (incline)", "1");
-  real("inertial_number_error", &FitRunRow::inertial_number_error,
-       "its error: delta method (shear); relative errors of x and √q in quadrature (incline)", "1");
-  real("xi_ratio", &FitRunRow::xi_ratio,
-       "ξ/ξ_el of the correlation table, a lower bound where xi_measurable is 0 (NaN: no table, an incline row, "
-       "or no value)",
-       "1");
-  flag("xi_measurable", &FitRunRow::xi_measurable,
-       "the correlation table's measurable flag (0: the correlations reach the cell, xi_ratio is a lower bound; "
-       "0 without a table)");
-  flag("dense", &FitRunRow::dense, "1 if dense by the rule of /fit's dense_rule");
-  flag("fitted", &FitRunRow::fitted,
-       "1 if a point of its friction's fit: a shear row, restitution = fit_restitution, dense, x, s/p and I > 0");
-  real("prediction", &FitRunRow::prediction,
-       "STZ s/p at the row's x with the fit of its friction (NaN: no fit for that friction)", "1");
-  real("residual", &FitRunRow::residual, "s_over_p − prediction", "1");
-  real("prediction_mu_of_I", &FitRunRow::prediction_mu_of_I,
-       "μ(I) at the row's I with the fit of its friction (NaN: no fit)", "1");
-  real("residual_mu_of_I", &FitRunRow::residual_mu_of_I, "s_over_p − prediction_mu_of_I", "1");
+  io::TableWriter(w, "/runs",
+                  "one row per RUN.h5 in command-line order (kind shear), then the flowing rows of each --incline "
+                  "table (kind incline)")
+      .write(table.runs, run_columns());
   io::Parameters run_group;
   run_group.set("from_strain", table.settings.window.from_strain);
   run_group.set("detect_transient", std::int64_t(table.settings.window.detect_transient));
@@ -424,95 +493,8 @@ void write_fit_table(const std::string& path, const FitTable& table, const io::P
                 "incline-bulk table's T");
   w.write_attributes("/runs", run_group);
 
-  const auto& fits = table.fits;
-  const std::size_t m = fits.size();
-  io::Parameters per_fit;
-  per_fit.set("rows", "one row per friction coefficient with a fit, by increasing friction");
-  auto freal = [&](const char* name, auto value, const std::string& meaning, const char* units) {
-    std::vector<double> v;
-    for (const FitRow& f : fits) v.push_back(value(f));
-    w.write(std::string("/fit/") + name, {m}, v, meaning, units, per_fit);
-  };
-  auto fint = [&](const char* name, std::int64_t FitRow::*member, const std::string& meaning) {
-    std::vector<std::int64_t> v;
-    for (const FitRow& f : fits) v.push_back(f.*member);
-    w.write(std::string("/fit/") + name, {m}, v, meaning, "1", per_fit);
-  };
-  constexpr double kDegrees = 180 / std::numbers::pi;
-  auto mi = [](const FitRow& f, double v) { return f.has_mu_of_I ? v : kNaN; };
-  freal(
-      "friction", [](const FitRow& f) { return f.friction; }, "Coulomb friction μ of the fitted runs", "1");
-  fint("points", &FitRow::points, "fitted runs (rows of /runs with fitted = 1 and this friction)");
-  freal(
-      "A", [](const FitRow& f) { return f.stz.value.A; }, "A of eq. 6.36", "1");
-  freal(
-      "A_error", [](const FitRow& f) { return f.stz.error.A; }, "standard error of A", "1");
-  freal(
-      "kappa", [](const FitRow& f) { return f.stz.value.kappa; }, "κ of eq. 6.36", "1");
-  freal(
-      "kappa_error", [](const FitRow& f) { return f.stz.error.kappa; }, "standard error of κ", "1");
-  freal(
-      "zeta", [](const FitRow& f) { return f.stz.value.zeta; }, "ζ of eq. 6.36", "1");
-  freal(
-      "zeta_error", [](const FitRow& f) { return f.stz.error.zeta; }, "standard error of ζ", "1");
-  freal(
-      "tan_theta_star", [](const FitRow& f) { return f.stz.tan_theta_star; },
-      "tanθ*, root of ζ t tanh(κt) = 1 (eq. 6.35)", "1");
-  freal(
-      "tan_theta_star_error", [](const FitRow& f) { return f.stz.tan_theta_star_error; },
-      "its error (delta method over the covariance of κ, ζ; NaN where the coefficients are degenerate and the "
-      "covariance keeps no digit of it)",
-      "1");
-  freal(
-      "tan_theta_star_jackknife_error",
-      [](const FitRow& f) { return f.tan_theta_star_jackknife_error; },
-      "its delete-one jackknife error over the fitted points (refits; NaN for fewer than 5 points)", "1");
-  freal(
-      "theta_star", [&](const FitRow& f) { return f.stz.theta_star * kDegrees; }, "repose angle θ*", "degrees");
-  freal(
-      "theta_star_error", [&](const FitRow& f) { return f.stz.theta_star_error * kDegrees; },
-      "its error (from tan_theta_star_error)", "degrees");
-  freal(
-      "theta_star_jackknife_error",
-      [&](const FitRow& f) {
-        const double t = f.stz.tan_theta_star;
-        return f.tan_theta_star_jackknife_error / (1 + t * t) * kDegrees;
-      },
-      "its error from tan_theta_star_jackknife_error", "degrees");
-  freal(
-      "chi2", [](const FitRow& f) { return f.stz.chi2; },
-      "χ² of the STZ fit's weighted residuals (unweighted: sum of squares)", "1");
-  fint("dof", &FitRow::dof, "points − 3");
-  freal(
-      "mu_s", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.mu_s); }, "μ_s of μ(I)", "1");
-  freal(
-      "mu_s_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.mu_s); }, "its standard error", "1");
-  freal(
-      "mu_2", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.mu_2); }, "μ₂ of μ(I)", "1");
-  freal(
-      "mu_2_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.mu_2); }, "its standard error", "1");
-  freal(
-      "I0", [&](const FitRow& f) { return mi(f, f.mu_of_I.value.I0); }, "I₀ of μ(I)", "1");
-  freal(
-      "I0_error", [&](const FitRow& f) { return mi(f, f.mu_of_I.error.I0); }, "its standard error", "1");
-  freal(
-      "stz_rms", [](const FitRow& f) { return f.stz_rms; }, "rms residual in s/p of the STZ law, fitted points", "1");
-  freal(
-      "mu_of_I_rms", [](const FitRow& f) { return f.mu_of_I_rms; }, "rms residual in s/p of μ(I), fitted points", "1");
-  freal(
-      "predicted_rms", [](const FitRow& f) { return f.predicted_rms; },
-      "rms STZ residual of the shear rows of this friction that are not fitted (NaN: none)", "1");
-  fint("predicted_count", &FitRow::predicted_count, "rows in predicted_rms");
-  freal(
-      "incline_rms", [](const FitRow& f) { return f.incline_rms; },
-      "rms STZ residual of the incline rows of this friction (NaN: none)", "1");
-  fint("incline_count", &FitRow::incline_count, "rows in incline_rms");
-  freal(
-      "mu_of_I_predicted_rms", [](const FitRow& f) { return f.mu_of_I_predicted_rms; },
-      "rms μ(I) residual over the rows of predicted_rms", "1");
-  freal(
-      "mu_of_I_incline_rms", [](const FitRow& f) { return f.mu_of_I_incline_rms; },
-      "rms μ(I) residual over the incline rows", "1");
+  io::TableWriter(w, "/fit", "one row per friction coefficient with a fit, by increasing friction")
+      .write(table.fits, fit_columns());
   io::Parameters fit_group;
   fit_group.set("objective",
                 table.settings.objective == StzObjective::orthogonal_distance ? "orthogonal" : "least-squares");

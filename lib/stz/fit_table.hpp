@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "io/table_writer.hpp"
 #include "io/trajectory.hpp"
 #include "shear/steady_window.hpp"
 #include "stz/constitutive.hpp"
@@ -86,6 +87,11 @@ std::vector<FitRunRow> read_incline_rows(const std::string& path);
 FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& settings);
 
 // Writes the table with the provenance in /parameters.
+// The columns of /runs and /fit, each declared once (docs/file-format.md, gf-stz fit table, is
+// checked against them).
+const std::vector<io::RowColumn<FitRunRow>>& run_columns();
+const std::vector<io::RowColumn<FitRow>>& fit_columns();
+
 void write_fit_table(const std::string& path, const FitTable& table, const io::Parameters& provenance);
 
 }  // namespace granflow::stz

@@ -16,6 +16,7 @@
 #include "io/units.hpp"
 #include "kinetic/table.hpp"
 #include "network/table.hpp"
+#include "stz/fit_table.hpp"
 
 using namespace granflow;
 
@@ -146,4 +147,9 @@ TEST(TableColumns, GfNetworkAsDocumented) {
   // xi_ratio's meaning names the --xi reading; the docs name all three.
   expect_documented("gf-network table", "/prediction",
                     io::table_datasets(network::prediction_columns(correlation::XiReading::abs)), {"xi_ratio"});
+}
+
+TEST(TableColumns, GfStzFitAsDocumented) {
+  expect_documented("gf-stz fit table", "/runs", io::table_datasets(stz::run_columns()));
+  expect_documented("gf-stz fit table", "/fit", io::table_datasets(stz::fit_columns()));
 }
