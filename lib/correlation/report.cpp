@@ -432,18 +432,15 @@ void write_sweep(const Target& t) {
           "1");
   if (!report.crossings_abs.empty()) {
     const auto& a = report.crossings_abs;
-    auto abs_series = [&](const char* name, auto value, const char* meaning, const char* units) {
-      w.write(std::string("/sweep/") + name, {g}, column(g, value), meaning, units);
-    };
-    abs_series(
+    series(
         "nu_bc_abs", [&](std::size_t k) { return a[k].nu_bc; },
         "nu where xi_abs/xi_abs_el crosses the threshold, measurable runs only (NaN unless status_abs = 0)", "1");
-    abs_series(
+    series(
         "nu_bc_abs_error", [&](std::size_t k) { return a[k].nu_bc_error; },
         "standard error of nu_bc_abs from the jackknife errors of xi_abs and xi_abs_el", "1");
-    abs_series(
+    series(
         "nu_below_abs", [&](std::size_t k) { return a[k].nu_below; }, "nu of the run below the crossing", "1");
-    abs_series(
+    series(
         "nu_above_abs", [&](std::size_t k) { return a[k].nu_above; }, "nu of the run above the crossing", "1");
     w.write("/sweep/runs_abs", {g}, int_column(g, [&](std::size_t k) { return a[k].runs; }),
             "measurable runs in the series", "1");

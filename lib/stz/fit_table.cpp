@@ -203,41 +203,44 @@ std::vector<FitRunRow> read_incline_rows(const std::string& path) {
   }
 }
 
-FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& settings) {
-  if (runs.empty()) throw UsageError("no input run");
-  const bool by_xi = !settings.correlation.empty();
-  if (!by_xi && !std::isfinite(settings.min_packing_fraction))
-    throw UsageError(
-        "no dense rule: give --correlation TABLE.h5 (xi/xi_el >= --dense-ratio) or "
-        "--min-packing-fraction NU");
-  if (by_xi && !(settings.dense_ratio > 0))
-    throw UsageError("option --dense-ratio: must be > 0, got " + format_number(settings.dense_ratio));
+namespace {
 
-  FitTable table;
-  table.settings = settings;
+// The shear rows of the runs, each read once (a run given twice, by its SHA-256, is refused).
+std::vector<FitRunRow> read_shear_rows(const std::vector<std::string>& runs, const FitSettings& settings) {
+  std::vector<FitRunRow> rows;
   std::map<std::string, std::string> seen;  // sha256 → path
   for (const std::string& path : runs) {
     FitRunRow row = read_shear_row(path, settings.window);
     check_interrupt();
     const auto [it, fresh] = seen.emplace(row.input_sha256, path);
     if (!fresh) throw UsageError("'" + path + "': the same run as '" + it->second + "' (same sha256): given twice");
-    table.runs.push_back(std::move(row));
+    rows.push_back(std::move(row));
   }
-  if (by_xi) {
-    const std::vector<correlation::XiValue> xi = correlation::read_xi_ratios(
-        settings.correlation, runs,
-        settings.signed_xi ? correlation::XiReading::signed_area : correlation::XiReading::abs, "gf-stz fit");
-    // A ratio gf-correlate calls not measurable is the one the cell allows (the correlations
-    // reach it): ξ is at least that long, so the ratio is a lower bound and still decides.
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-      table.runs[k].xi_ratio = xi[k].ratio;
-      table.runs[k].xi_measurable = xi[k].measurable;
-      table.runs[k].dense = std::isfinite(xi[k].ratio) && xi[k].ratio >= settings.dense_ratio;
-    }
-  } else {
+  return rows;
+}
+
+// Marks the dense shear rows: by ξ/ξ_el of the correlation table (by_xi), else by ν.
+void mark_dense(FitTable& table, const std::vector<std::string>& runs, const FitSettings& settings, bool by_xi) {
+  if (!by_xi) {
     for (FitRunRow& r : table.runs) r.dense = r.packing_fraction >= settings.min_packing_fraction;
+    return;
   }
-  std::vector<std::string> left_out;  // dense runs at the fitted restitution that cannot be fitted, and why
+  const std::vector<correlation::XiValue> xi = correlation::read_xi_ratios(
+      settings.correlation, runs,
+      settings.signed_xi ? correlation::XiReading::signed_area : correlation::XiReading::abs, "gf-stz fit");
+  // A ratio gf-correlate calls not measurable is the one the cell allows (the correlations
+  // reach it): ξ is at least that long, so the ratio is a lower bound and still decides.
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    table.runs[k].xi_ratio = xi[k].ratio;
+    table.runs[k].xi_measurable = xi[k].measurable;
+    table.runs[k].dense = std::isfinite(xi[k].ratio) && xi[k].ratio >= settings.dense_ratio;
+  }
+}
+
+// Marks the fitted rows (dense, at the fitted restitution, x, s/p and I > 0 and finite);
+// returns the dense rows at that restitution left out, and why.
+std::vector<std::string> mark_fitted(FitTable& table, const FitSettings& settings) {
+  std::vector<std::string> left_out;
   for (FitRunRow& r : table.runs) {
     const bool candidate = r.dense && r.restitution == settings.fit_restitution;
     r.fitted = candidate && positive_finite(r.rate_R_over_sqrt_T) && positive_finite(r.s_over_p) &&
@@ -248,14 +251,11 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
                          "; each must be > 0 and finite)");
   }
   for (const std::string& run : left_out) table.notes.push_back("left out of the fit: " + run);
+  return left_out;
+}
 
-  for (const std::string& path : settings.incline)
-    for (FitRunRow& r : read_incline_rows(path)) {
-      // The incline bulk has no correlation-table entry: dense only by the packing-fraction rule.
-      r.dense = !by_xi && r.packing_fraction >= settings.min_packing_fraction;
-      table.runs.push_back(std::move(r));
-    }
-
+// The frictions with a fitted row, increasing; a note for each friction of shear rows without one.
+std::vector<double> fitted_frictions(FitTable& table, const FitSettings& settings) {
   std::vector<double> frictions;
   for (const FitRunRow& r : table.runs)
     if (r.fitted && std::find(frictions.begin(), frictions.end(), r.friction) == frictions.end())
@@ -269,8 +269,116 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
   for (const double mu : unfitted)
     table.notes.push_back("friction " + format_number(mu) + ": no fitted point (restitution " +
                           format_number(settings.fit_restitution) + " and dense): no fit");
+  return frictions;
+}
 
-  for (const double mu : frictions) {
+// The points of one friction's fit: x, s/p, I and their errors (cleared when a point has none).
+struct FitPoints {
+  std::vector<double> x, y, x_err, y_err, I;
+};
+
+FitPoints fit_points(FitTable& table, const std::vector<std::size_t>& points, double mu, const FitSettings& settings) {
+  FitPoints p;
+  bool weighted = true;
+  for (std::size_t k : points) {
+    const FitRunRow& r = table.runs[k];
+    p.x.push_back(r.rate_R_over_sqrt_T);
+    p.y.push_back(r.s_over_p);
+    p.I.push_back(r.inertial_number);
+    p.x_err.push_back(r.rate_R_over_sqrt_T_error);
+    p.y_err.push_back(r.s_over_p_error);
+    weighted = weighted && positive_finite(r.rate_R_over_sqrt_T_error) && positive_finite(r.s_over_p_error);
+  }
+  if (!weighted && settings.objective == StzObjective::orthogonal_distance)
+    throw UsageError("friction " + format_number(mu) +
+                     ": --objective orthogonal needs the errors of x and s/p of every fitted point (a run's window "
+                     "too short for an error?)");
+  if (!weighted) {
+    p.x_err.clear();
+    p.y_err.clear();
+    table.notes.push_back("friction " + format_number(mu) +
+                          ": a fitted point has no error: fits unweighted (errors from the scatter)");
+  }
+  return p;
+}
+
+// The STZ law and μ(I) fitted to one friction's points.
+FitRow fit_laws(FitTable& table, const FitPoints& p, std::size_t points, double mu, const FitSettings& settings) {
+  FitRow fit;
+  fit.friction = mu;
+  fit.points = std::int64_t(points);
+  try {
+    fit.stz = fit_stz(p.x, p.y, p.y_err, p.x_err, settings.objective);
+    fit.tan_theta_star_jackknife_error = stz_repose_jackknife_error(p.x, p.y, p.y_err, p.x_err, settings.objective);
+  } catch (const std::exception& e) {
+    throw RuntimeFailure("friction " + format_number(mu) + ": the STZ fit failed: " + e.what());
+  }
+  fit.dof = fit.stz.dof;
+  try {
+    fit.mu_of_I = fit_mu_of_I(p.I, p.y, p.y_err);
+    fit.has_mu_of_I = true;
+  } catch (const std::exception& e) {
+    table.notes.push_back("friction " + format_number(mu) + ": the mu(I) fit failed (" + e.what() +
+                          "): its columns are NaN");
+  }
+  const LawComparison laws =
+      compare_laws(fit.stz.value, fit.has_mu_of_I ? fit.mu_of_I.value : MuICoefficients{}, p.x, p.I, p.y);
+  fit.stz_rms = laws.stz_rms;
+  fit.mu_of_I_rms = fit.has_mu_of_I ? laws.mu_of_I_rms : kNaN;
+  return fit;
+}
+
+// Each row of the fit's friction: its predictions and residuals; the fit: the rms residuals
+// of the rows it did not fit (shear and incline).
+void predict_rows(FitTable& table, FitRow& fit) {
+  std::vector<double> predicted, incline, mi_predicted, mi_incline;
+  for (FitRunRow& r : table.runs) {
+    if (r.friction != fit.friction) continue;
+    r.prediction = stz_stress_ratio(fit.stz.value, r.rate_R_over_sqrt_T);
+    r.residual = r.s_over_p - r.prediction;
+    if (fit.has_mu_of_I) {
+      r.prediction_mu_of_I = mu_of_I(fit.mu_of_I.value, r.inertial_number);
+      r.residual_mu_of_I = r.s_over_p - r.prediction_mu_of_I;
+    }
+    if (r.fitted) continue;
+    auto& stz_list = r.kind == "shear" ? predicted : incline;
+    auto& mi_list = r.kind == "shear" ? mi_predicted : mi_incline;
+    if (std::isfinite(r.residual)) stz_list.push_back(r.residual);
+    if (std::isfinite(r.residual_mu_of_I)) mi_list.push_back(r.residual_mu_of_I);
+  }
+  fit.predicted_rms = rms(predicted);
+  fit.predicted_count = std::int64_t(predicted.size());
+  fit.incline_rms = rms(incline);
+  fit.incline_count = std::int64_t(incline.size());
+  fit.mu_of_I_predicted_rms = rms(mi_predicted);
+  fit.mu_of_I_incline_rms = rms(mi_incline);
+}
+
+}  // namespace
+
+FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& settings) {
+  if (runs.empty()) throw UsageError("no input run");
+  const bool by_xi = !settings.correlation.empty();
+  if (!by_xi && !std::isfinite(settings.min_packing_fraction))
+    throw UsageError(
+        "no dense rule: give --correlation TABLE.h5 (xi/xi_el >= --dense-ratio) or "
+        "--min-packing-fraction NU");
+  if (by_xi && !(settings.dense_ratio > 0))
+    throw UsageError("option --dense-ratio: must be > 0, got " + format_number(settings.dense_ratio));
+
+  FitTable table;
+  table.settings = settings;
+  table.runs = read_shear_rows(runs, settings);
+  mark_dense(table, runs, settings, by_xi);
+  const std::vector<std::string> left_out = mark_fitted(table, settings);
+  for (const std::string& path : settings.incline)
+    for (FitRunRow& r : read_incline_rows(path)) {
+      // The incline bulk has no correlation-table entry: dense only by the packing-fraction rule.
+      r.dense = !by_xi && r.packing_fraction >= settings.min_packing_fraction;
+      table.runs.push_back(std::move(r));
+    }
+
+  for (const double mu : fitted_frictions(table, settings)) {
     std::vector<std::size_t> points;
     for (std::size_t k = 0; k < table.runs.size(); ++k)
       if (table.runs[k].fitted && table.runs[k].friction == mu) points.push_back(k);
@@ -279,70 +387,8 @@ FitTable analyse_fit(const std::vector<std::string>& runs, const FitSettings& se
                             " fitted points, fewer than the 3 parameters: no fit");
       continue;
     }
-    std::vector<double> x, y, x_err, y_err, I;
-    bool weighted = true;
-    for (std::size_t k : points) {
-      const FitRunRow& r = table.runs[k];
-      x.push_back(r.rate_R_over_sqrt_T);
-      y.push_back(r.s_over_p);
-      I.push_back(r.inertial_number);
-      x_err.push_back(r.rate_R_over_sqrt_T_error);
-      y_err.push_back(r.s_over_p_error);
-      weighted = weighted && positive_finite(r.rate_R_over_sqrt_T_error) && positive_finite(r.s_over_p_error);
-    }
-    if (!weighted && settings.objective == StzObjective::orthogonal_distance)
-      throw UsageError("friction " + format_number(mu) +
-                       ": --objective orthogonal needs the errors of x and s/p of every fitted point (a run's window "
-                       "too short for an error?)");
-    if (!weighted) {
-      x_err.clear();
-      y_err.clear();
-      table.notes.push_back("friction " + format_number(mu) +
-                            ": a fitted point has no error: fits unweighted (errors from the scatter)");
-    }
-    FitRow fit;
-    fit.friction = mu;
-    fit.points = std::int64_t(points.size());
-    try {
-      fit.stz = fit_stz(x, y, y_err, x_err, settings.objective);
-      fit.tan_theta_star_jackknife_error = stz_repose_jackknife_error(x, y, y_err, x_err, settings.objective);
-    } catch (const std::exception& e) {
-      throw RuntimeFailure("friction " + format_number(mu) + ": the STZ fit failed: " + e.what());
-    }
-    fit.dof = fit.stz.dof;
-    try {
-      fit.mu_of_I = fit_mu_of_I(I, y, y_err);
-      fit.has_mu_of_I = true;
-    } catch (const std::exception& e) {
-      table.notes.push_back("friction " + format_number(mu) + ": the mu(I) fit failed (" + e.what() +
-                            "): its columns are NaN");
-    }
-    const LawComparison laws =
-        compare_laws(fit.stz.value, fit.has_mu_of_I ? fit.mu_of_I.value : MuICoefficients{}, x, I, y);
-    fit.stz_rms = laws.stz_rms;
-    fit.mu_of_I_rms = fit.has_mu_of_I ? laws.mu_of_I_rms : kNaN;
-
-    std::vector<double> predicted, incline, mi_predicted, mi_incline;
-    for (FitRunRow& r : table.runs) {
-      if (r.friction != mu) continue;
-      r.prediction = stz_stress_ratio(fit.stz.value, r.rate_R_over_sqrt_T);
-      r.residual = r.s_over_p - r.prediction;
-      if (fit.has_mu_of_I) {
-        r.prediction_mu_of_I = mu_of_I(fit.mu_of_I.value, r.inertial_number);
-        r.residual_mu_of_I = r.s_over_p - r.prediction_mu_of_I;
-      }
-      if (r.fitted) continue;
-      auto& stz_list = r.kind == "shear" ? predicted : incline;
-      auto& mi_list = r.kind == "shear" ? mi_predicted : mi_incline;
-      if (std::isfinite(r.residual)) stz_list.push_back(r.residual);
-      if (std::isfinite(r.residual_mu_of_I)) mi_list.push_back(r.residual_mu_of_I);
-    }
-    fit.predicted_rms = rms(predicted);
-    fit.predicted_count = std::int64_t(predicted.size());
-    fit.incline_rms = rms(incline);
-    fit.incline_count = std::int64_t(incline.size());
-    fit.mu_of_I_predicted_rms = rms(mi_predicted);
-    fit.mu_of_I_incline_rms = rms(mi_incline);
+    FitRow fit = fit_laws(table, fit_points(table, points, mu, settings), points.size(), mu, settings);
+    predict_rows(table, fit);
     table.fits.push_back(fit);
   }
   if (table.fits.empty())
