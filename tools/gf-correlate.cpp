@@ -21,6 +21,86 @@ int whole(const CommandLine& cli, const std::string& name, long long lo) {
   if (v < lo || v > 1000000000) throw UsageError("option --" + name + ": must be in [" + std::to_string(lo) + ", 1e9]");
   return int(v);
 }
+
+// The analysis settings from the parsed options, each checked; references: --reference's files.
+correlation::Settings read_settings(const CommandLine& cli, std::vector<std::string>& references) {
+  correlation::Settings s;
+  s.from_strain = cli.real("from-strain");
+  require_in_range("from-strain", s.from_strain, 0, INFINITY, false, true);
+  s.detect_transient = cli.flag_set("detect-transient");
+  s.bin_width = cli.real("bin-width");
+  s.max_lag = cli.real("max-lag");
+  s.map_bin = cli.real("map-bin");
+  require_in_range("bin-width", s.bin_width, 0, INFINITY, false, true);
+  require_in_range("max-lag", s.max_lag, 0, INFINITY, false, true);
+  require_in_range("map-bin", s.map_bin, 0, INFINITY, false, true);
+  s.whole_box = cli.flag_set("whole-box");
+  const std::string method = cli.text("map-method");
+  if (method == "pairs") s.map_method = correlation::MapMethod::pairs;
+  else if (method == "fft") s.map_method = correlation::MapMethod::fft;
+  else if (method == "auto") s.map_method = correlation::MapMethod::automatic;
+  else throw UsageError("option --map-method: must be pairs, fft or auto, not '" + method + "'");
+  s.fft_cell = cli.real("fft-cell");
+  require_in_range("fft-cell", s.fft_cell, 0, INFINITY, false, true);
+  s.abs_bin_width = cli.real("abs-bin-width");
+  require_in_range("abs-bin-width", s.abs_bin_width, 0, INFINITY, false, true);
+  s.magnitude.noise = cli.real("abs-noise");
+  require_in_range("abs-noise", s.magnitude.noise, 0, INFINITY, false, true);
+  const std::string threshold_kind = cli.text("abs-threshold");
+  if (threshold_kind != "soft" && threshold_kind != "hard")
+    throw UsageError("option --abs-threshold: must be soft or hard, not '" + threshold_kind + "'");
+  s.magnitude.hard = threshold_kind == "hard";
+  s.magnitude.max_tail_share = cli.real("max-tail-share");
+  require_in_range("max-tail-share", s.magnitude.max_tail_share, 0, 1, false, false);
+  s.angle_bins = whole(cli, "angle-bins", 3);
+  s.blocks = whole(cli, "blocks", 1);
+  s.threshold = cli.real("threshold");
+  require_positive("threshold", s.threshold);
+  if (cli.given("xi-el")) {
+    s.xi_el = cli.real("xi-el");
+    require_positive("xi-el", *s.xi_el);
+  }
+  references = cli.text_list("reference");
+  if (cli.given("reference") && references.empty()) throw UsageError("option --reference: no file given");
+  s.force_bin_width = cli.real("force-bin-width");
+  require_positive("force-bin-width", s.force_bin_width);
+  s.force_max = cli.real("force-max");
+  if (!(s.force_max >= s.force_bin_width)) throw UsageError("option --force-max: must be >= --force-bin-width");
+  s.kde_bandwidth = cli.real("kde-bandwidth");
+  require_positive("kde-bandwidth", s.kde_bandwidth);
+  if (!(s.force_max >= 4 * s.kde_bandwidth))
+    throw UsageError("option --kde-bandwidth: must be at most --force-max/4 (the peak test compares f = 0 and 3h)");
+  correlation::check_force_bins(s.force_bin_width, s.force_max, s.kde_bandwidth);
+  s.bootstrap = whole(cli, "bootstrap", 0);
+  const long long seed = cli.integer("seed");
+  if (seed < 0) throw UsageError("option --seed: must be >= 0");
+  s.seed = std::uint64_t(seed);
+  s.clusters_window = whole(cli, "clusters-window", 0);
+  s.clusters_frame = cli.integer("clusters-frame");
+  s.quiet = cli.flag_set("quiet");
+  return s;
+}
+
+// The per-run summary on stderr (unless --quiet).
+void print_summary(const correlation::Report& report, const correlation::Settings& s, bool no_reference) {
+  if (!s.quiet && !s.xi_el && no_reference)
+    std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: ξ/ξ_el and ν_bc not computed\n");
+  if (!s.quiet)
+    for (std::size_t i = 0; i < report.runs.size(); ++i)
+      std::fprintf(stderr,
+                   "gf-correlate: %s: %zu frames, ξ = %.4g +- %.2g (ξ/ξ_el = %.3g), xi_abs = %.4g +- %.2g "
+                   "(xi_abs/xi_abs_el = %.3g%s), P(f) %s (%.0f%%)\n",
+                   report.runs[i].path.c_str(), report.runs[i].frames.size(), report.results[i].xi,
+                   report.results[i].xi_error, report.xi_ratio[i], report.results[i].magnitude.xi,
+                   report.results[i].magnitude.xi_error, report.xi_abs_ratio[i],
+                   report.results[i].magnitude.measurable ? "" : ", reaches the box",
+                   report.results[i].peak.peak == 1 ? "peaks at f > 0" : "is largest at f = 0",
+                   100 * report.results[i].peak.confidence);
+  if (!s.quiet && s.map_method == correlation::MapMethod::automatic)
+    std::fprintf(stderr, "gf-correlate: pair sums by %s (%s)\n",
+                 report.method == correlation::MapMethod::fft ? "fft" : "pairs", report.method_reason.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,8 +127,7 @@ int main(int argc, char** argv) {
              "means of its T and p (the rule of the pipelines' steady_state.py; dilute flows heat up for "
              "many strain units); the strain used is /runs/first_strain");
     cli.real_option("bin-width", 0, "D", "radial bin width of C(l); 0 = σ/20", "0");
-    cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 σ, half the shorter box side)",
-                    "0");
+    cli.real_option("max-lag", 0, "L", "largest lag counted anywhere; 0 = min(15 σ, half the shorter box side)", "0");
     cli.flag("whole-box", 0,
              "--max-lag = half the shorter box side of all runs, the largest lag whose minimum image is unique "
              "(with --map-method fft or auto for large runs: the exact pair sums grow as N^2 there)");
@@ -64,8 +143,7 @@ int main(int argc, char** argv) {
                     "2000 bins per axis)",
                     "0");
     cli.real_option("abs-bin-width", 0, "D",
-                    "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest σ/4",
-                    "0");
+                    "coarse radial bins of xi_abs, a whole multiple of --bin-width; 0 = the multiple nearest σ/4", "0");
     cli.real_option("abs-noise", 0, "K", "xi_abs: reduce each coarse bin of |C| by K jackknife errors (floored at 0)",
                     "2");
     cli.text_option("abs-threshold", 0, "soft|hard",
@@ -95,60 +173,8 @@ int main(int argc, char** argv) {
                        "-1");
     if (!cli.parse(argc, argv)) return 0;
 
-    correlation::Settings s;
-    s.from_strain = cli.real("from-strain");
-    require_in_range("from-strain", s.from_strain, 0, INFINITY, false, true);
-    s.detect_transient = cli.flag_set("detect-transient");
-    s.bin_width = cli.real("bin-width");
-    s.max_lag = cli.real("max-lag");
-    s.map_bin = cli.real("map-bin");
-    require_in_range("bin-width", s.bin_width, 0, INFINITY, false, true);
-    require_in_range("max-lag", s.max_lag, 0, INFINITY, false, true);
-    require_in_range("map-bin", s.map_bin, 0, INFINITY, false, true);
-    s.whole_box = cli.flag_set("whole-box");
-    const std::string method = cli.text("map-method");
-    if (method == "pairs") s.map_method = correlation::MapMethod::pairs;
-    else if (method == "fft") s.map_method = correlation::MapMethod::fft;
-    else if (method == "auto") s.map_method = correlation::MapMethod::automatic;
-    else throw UsageError("option --map-method: must be pairs, fft or auto, not '" + method + "'");
-    s.fft_cell = cli.real("fft-cell");
-    require_in_range("fft-cell", s.fft_cell, 0, INFINITY, false, true);
-    s.abs_bin_width = cli.real("abs-bin-width");
-    require_in_range("abs-bin-width", s.abs_bin_width, 0, INFINITY, false, true);
-    s.magnitude.noise = cli.real("abs-noise");
-    require_in_range("abs-noise", s.magnitude.noise, 0, INFINITY, false, true);
-    const std::string threshold_kind = cli.text("abs-threshold");
-    if (threshold_kind != "soft" && threshold_kind != "hard")
-      throw UsageError("option --abs-threshold: must be soft or hard, not '" + threshold_kind + "'");
-    s.magnitude.hard = threshold_kind == "hard";
-    s.magnitude.max_tail_share = cli.real("max-tail-share");
-    require_in_range("max-tail-share", s.magnitude.max_tail_share, 0, 1, false, false);
-    s.angle_bins = whole(cli, "angle-bins", 3);
-    s.blocks = whole(cli, "blocks", 1);
-    s.threshold = cli.real("threshold");
-    require_positive("threshold", s.threshold);
-    if (cli.given("xi-el")) {
-      s.xi_el = cli.real("xi-el");
-      require_positive("xi-el", *s.xi_el);
-    }
-    const std::vector<std::string> references = cli.text_list("reference");
-    if (cli.given("reference") && references.empty()) throw UsageError("option --reference: no file given");
-    s.force_bin_width = cli.real("force-bin-width");
-    require_positive("force-bin-width", s.force_bin_width);
-    s.force_max = cli.real("force-max");
-    if (!(s.force_max >= s.force_bin_width)) throw UsageError("option --force-max: must be >= --force-bin-width");
-    s.kde_bandwidth = cli.real("kde-bandwidth");
-    require_positive("kde-bandwidth", s.kde_bandwidth);
-    if (!(s.force_max >= 4 * s.kde_bandwidth))
-      throw UsageError("option --kde-bandwidth: must be at most --force-max/4 (the peak test compares f = 0 and 3h)");
-    correlation::check_force_bins(s.force_bin_width, s.force_max, s.kde_bandwidth);
-    s.bootstrap = whole(cli, "bootstrap", 0);
-    const long long seed = cli.integer("seed");
-    if (seed < 0) throw UsageError("option --seed: must be >= 0");
-    s.seed = std::uint64_t(seed);
-    s.clusters_window = whole(cli, "clusters-window", 0);
-    s.clusters_frame = cli.integer("clusters-frame");
-    s.quiet = cli.flag_set("quiet");
+    std::vector<std::string> references;
+    const correlation::Settings s = read_settings(cli, references);
 
     refuse_output_among_inputs(cli.text("output"), cli.positional(), references);
     OutputFile out(cli.text("output"));
@@ -160,22 +186,7 @@ int main(int argc, char** argv) {
     check_interrupt();
     out.commit();
 
-    if (!s.quiet && !s.xi_el && references.empty())
-      std::fprintf(stderr, "gf-correlate: note: no --reference or --xi-el: ξ/ξ_el and ν_bc not computed\n");
-    if (!s.quiet)
-      for (std::size_t i = 0; i < report.runs.size(); ++i)
-        std::fprintf(stderr,
-                     "gf-correlate: %s: %zu frames, ξ = %.4g +- %.2g (ξ/ξ_el = %.3g), xi_abs = %.4g +- %.2g "
-                     "(xi_abs/xi_abs_el = %.3g%s), P(f) %s (%.0f%%)\n",
-                     report.runs[i].path.c_str(), report.runs[i].frames.size(), report.results[i].xi,
-                     report.results[i].xi_error, report.xi_ratio[i], report.results[i].magnitude.xi,
-                     report.results[i].magnitude.xi_error, report.xi_abs_ratio[i],
-                     report.results[i].magnitude.measurable ? "" : ", reaches the box",
-                     report.results[i].peak.peak == 1 ? "peaks at f > 0" : "is largest at f = 0",
-                     100 * report.results[i].peak.confidence);
-    if (!s.quiet && s.map_method == correlation::MapMethod::automatic)
-      std::fprintf(stderr, "gf-correlate: pair sums by %s (%s)\n",
-                   report.method == correlation::MapMethod::fft ? "fft" : "pairs", report.method_reason.c_str());
+    print_summary(report, s, references.empty());
     return 0;
   });
 }
