@@ -136,37 +136,18 @@ Stresses stresses(const shear_run::Opened& o, const std::string& path, const cha
   return out;
 }
 
-RunRow run_row(const std::string& path, const TableSettings& settings, const XiValue& xi,
-               const std::function<void()>& frame_done) {
-  const shear_run::Opened o = shear_run::open(path, "gf-network");
-  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
-  if (!o.reader.has_contacts())
-    throw bad("no contacts stored (no /contacts group): gf-network needs its frames' contacts");
-  const shear_run::Window w = shear_run::window(o, path, settings.window);
-  const std::vector<std::size_t> frames = shear_run::window_frames(o, w);
-  if (frames.empty())
-    throw bad("no stored frame in the window (steps " + std::to_string(w.previous_step + 1) + " to " +
-              std::to_string(o.step.back()) +
-              "); store more frames (gf-shear --frame-every) or start the window earlier (--from-strain)");
-  const io::RunIdentity id = io::read_run_identity(o.reader, o.parameters, path, {.hash = false, .dt = true});
-  RunRow row;
-  row.input = path;
-  const std::size_t n = id.grains;
-  row.grains = std::int32_t(n);
-  row.frames = std::int32_t(frames.size());
-  auto& r = row.runs;
-  r["packing_fraction"] = id.packing_fraction;
-  r["restitution"] = id.restitution;
-  r["friction"] = id.friction;
-  r["tangential_restitution"] = id.tangential_restitution;
-  r["rate"] = id.rate;
-  r["dt"] = id.dt;
-  r["first_strain"] = std::fabs(o.strain[w.first_row]);
-  r["last_strain"] = std::fabs(o.strain.back());
+// The per-frame sums of the window's frames (and their means), each frame's contacts also
+// added to its block's histograms; frame_done after each frame.
+struct FrameSeries {
+  std::vector<std::vector<double>> series;  // [field of kFields][frame]
+  FrameSums means;
+};
 
-  // Frames: per-frame sums, histograms pooled per contiguous block of frames.
-  const std::size_t blocks = std::min(settings.blocks, frames.size());
-  std::vector<Histograms> block(blocks, Histograms(settings.angle_bins, settings.deflection_bins));
+FrameSeries frame_sums(const shear_run::Opened& o, const std::string& path, const std::vector<std::size_t>& frames,
+                       const TableSettings& settings, std::size_t n, double dt, std::vector<Histograms>& block,
+                       const std::function<void()>& frame_done) {
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  const std::size_t blocks = block.size();
   std::vector<FrameSums> sums;
   FrameAnalyser analyser;
   const bool geometric = !std::isnan(settings.contact_gap);
@@ -181,8 +162,7 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     const io::Frame frame = o.reader.frame(frames[k]);
     if (!frame.has_contacts) throw bad("frame " + std::to_string(frames[k]) + " has no contacts stored");
     try {
-      const ContactRecords contacts =
-          geometric ? geometric_contacts(frame, radius, gap, r["dt"], o.rate) : ContactRecords{};
+      const ContactRecords contacts = geometric ? geometric_contacts(frame, radius, gap, dt, o.rate) : ContactRecords{};
       sums.push_back(analyser.analyse(geometric ? contacts : frame.contacts, n, &block[k * blocks / frames.size()]));
     } catch (const std::invalid_argument& e) {
       throw bad("/contacts of frame " + std::to_string(frames[k]) + ": " + e.what());
@@ -196,13 +176,19 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     means.*kFields[f] = mean(series[f]);
   }
   if (!(means.contacts > 0)) throw bad("no contact in the window's " + std::to_string(frames.size()) + " frame(s)");
-  r["contacts"] = means.contacts;
-  r["long_lived"] = means.long_lived;
+  return {std::move(series), means};
+}
 
-  // Window values and their errors: delta method, derivatives by central differences.
+// The window values of the frame quantities and the predictions, with their delta-method
+// errors (derivatives by central differences), and the network model's factors.
+void window_values(RunRow& row, const FrameSeries& frames, const XiValue& xi) {
+  const auto& series = frames.series;
+  const FrameSums& means = frames.means;
+  const std::size_t count = series.front().size();
+  auto& r = row.runs;
   const double xi_ratio = xi.ratio;
   const std::vector<double> value = evaluate(means, xi_ratio);
-  std::vector<std::vector<double>> linear(value.size(), std::vector<double>(sums.size(), 0.0));
+  std::vector<std::vector<double>> linear(value.size(), std::vector<double>(count, 0.0));
   for (std::size_t f = 0; f < kFields.size(); ++f) {
     double scale = std::fabs(means.*kFields[f]);
     if (scale == 0)
@@ -215,7 +201,7 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
     const std::vector<double> a = evaluate(up, xi_ratio), b = evaluate(down, xi_ratio);
     for (std::size_t q = 0; q < value.size(); ++q) {
       const double g = (a[q] - b[q]) / (2 * h);
-      for (std::size_t k = 0; k < sums.size(); ++k) linear[q][k] += g * series[f][k];
+      for (std::size_t k = 0; k < count; ++k) linear[q][k] += g * series[f][k];
     }
   }
   std::vector<double> error(value.size());
@@ -253,8 +239,13 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
                                                             xi_ratio, SumLimit::continuation)
                                                         .continuation_real
                                                   : 0;
+}
 
-  // Histograms pooled over the window; the 4θ components with block-jackknife errors.
+// The histograms pooled over the window, the 4θ components with block-jackknife errors, and
+// σ(θ)'s anisotropy.
+void histogram_values(RunRow& row, const std::vector<Histograms>& block, const TableSettings& settings) {
+  const std::size_t blocks = block.size();
+  auto& r = row.runs;
   Histograms pooled(settings.angle_bins, settings.deflection_bins);
   for (const Histograms& b : block) pooled.add(b);
   const std::array<double, 4> fourth = fourth_order(pooled);
@@ -304,10 +295,14 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   r["sigma_anisotropy"] = std::hypot(sigma_2.sin_coefficient, sigma_2.cos_coefficient);
   for (std::size_t k = 0; k < D; ++k)
     row.P_C.push_back(pairs > 0 ? pooled.deflection_count[k] / (2 * pairs * dx) : kNaN);
+}
 
-  // Left-hand sides from the window's observable rows.
-  const Stresses st = stresses(o, path, "stress_static", w.first_row);
-  const Stresses bc = stresses(o, path, "stress_collisional", w.first_row);
+// The stresses and both sides' left-hand sides from the window's observable rows.
+void stress_values(RunRow& row, const shear_run::Opened& o, const std::string& path, std::size_t first_row) {
+  auto& r = row.runs;
+  auto& pr = row.prediction;
+  const Stresses st = stresses(o, path, "stress_static", first_row);
+  const Stresses bc = stresses(o, path, "stress_collisional", first_row);
   auto average = [&](const char* name, const std::vector<double>& x) {
     r[name] = mean(x);
     r[std::string(name) + "_error"] = mean_error(x);
@@ -331,6 +326,44 @@ RunRow run_row(const std::string& path, const TableSettings& settings, const XiV
   const double sbc = mean(bc.s);
   r["shear_ratio_collisional"] = sbc / pbc;
   r["shear_ratio_collisional_error"] = delta_error({{bc.s, 1 / pbc}, {bc.p, -sbc / (pbc * pbc)}});
+}
+
+RunRow run_row(const std::string& path, const TableSettings& settings, const XiValue& xi,
+               const std::function<void()>& frame_done) {
+  const shear_run::Opened o = shear_run::open(path, "gf-network");
+  auto bad = [&](const std::string& what) { return UsageError("'" + path + "': " + what); };
+  if (!o.reader.has_contacts())
+    throw bad("no contacts stored (no /contacts group): gf-network needs its frames' contacts");
+  const shear_run::Window w = shear_run::window(o, path, settings.window);
+  const std::vector<std::size_t> frames = shear_run::window_frames(o, w);
+  if (frames.empty())
+    throw bad("no stored frame in the window (steps " + std::to_string(w.previous_step + 1) + " to " +
+              std::to_string(o.step.back()) +
+              "); store more frames (gf-shear --frame-every) or start the window earlier (--from-strain)");
+  const io::RunIdentity id = io::read_run_identity(o.reader, o.parameters, path, {.hash = false, .dt = true});
+  RunRow row;
+  row.input = path;
+  const std::size_t n = id.grains;
+  row.grains = std::int32_t(n);
+  row.frames = std::int32_t(frames.size());
+  auto& r = row.runs;
+  r["packing_fraction"] = id.packing_fraction;
+  r["restitution"] = id.restitution;
+  r["friction"] = id.friction;
+  r["tangential_restitution"] = id.tangential_restitution;
+  r["rate"] = id.rate;
+  r["dt"] = id.dt;
+  r["first_strain"] = std::fabs(o.strain[w.first_row]);
+  r["last_strain"] = std::fabs(o.strain.back());
+
+  const std::size_t blocks = std::min(settings.blocks, frames.size());
+  std::vector<Histograms> block(blocks, Histograms(settings.angle_bins, settings.deflection_bins));
+  const FrameSeries series = frame_sums(o, path, frames, settings, n, id.dt, block, frame_done);
+  r["contacts"] = series.means.contacts;
+  r["long_lived"] = series.means.long_lived;
+  window_values(row, series, xi);
+  histogram_values(row, block, settings);
+  stress_values(row, o, path, w.first_row);
   return row;
 }
 
