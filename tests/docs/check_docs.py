@@ -10,6 +10,16 @@ Fails (exit 1, one line per problem) when
   * a relative link [text](path) or [text](path#anchor) in README.md, CHANGELOG.md or
     any docs/**/*.md points to a file that does not exist, or to a heading that the
     target markdown file does not have;
+  * a repository path quoted in README.md or docs/**/*.md does not exist in the tree. A quoted
+    repository path is a token of an inline code span (`...`, outside fenced blocks; tokens
+    split at white space; quotes, brackets, commas and semicolons around it stripped; a ':' or
+    '#' and what follows, a line number or an anchor, dropped) that contains a '/' and whose
+    first component is a top-level directory of REPO_ROOT, relative to it (lib, tools, tests,
+    pipelines, python, bench, docs, cmake, .ci, ...). Not checked: tokens with a glob or
+    placeholder character (* ? [ ] { } < > $), and paths in a directory that REPO_ROOT/.gitignore
+    ignores by a directory pattern ("/build*/", "/runs/", "/figures/", "/python/build/",
+    "*.egg-info/": outputs of the build and the pipelines, absent from a fresh clone).
+    CHANGELOG.md's paths are history and are not checked; its links are;
   * the version is not the same in its one place (CMakeLists.txt's project(... VERSION x.y.z)),
     every `version:` of CITATION.cff and the first line of every program's --version, or
     CHANGELOG.md has no section "## x.y.z" or "## Unreleased" above it (docs/releases.md);
@@ -20,6 +30,7 @@ Fails (exit 1, one line per problem) when
 
 Python 3 standard library only; run by ctest as `docs.check`.
 """
+import fnmatch
 import os
 import re
 import subprocess
@@ -132,8 +143,11 @@ def table_options(text):
     return found
 
 
-def strip_code(text):
-    """Text with fenced code blocks and inline code spans blanked (links there are not links)."""
+CODE_SPAN = re.compile(r"(`+)((?:(?!\1).)+?)\1")
+
+
+def prose_lines(text):
+    """Each line of text, or "" for a line of a fenced code block or its fences."""
     out, fence = [], None
     for line in text.splitlines():
         stripped = line.lstrip()
@@ -146,8 +160,13 @@ def strip_code(text):
                 fence = None
             out.append("")
             continue
-        out.append(re.sub(r"(`+)(?:(?!\1).)+?\1", lambda m: " " * len(m.group(0)), line))
+        out.append(line)
     return out
+
+
+def strip_code(text):
+    """Text with fenced code blocks and inline code spans blanked (links there are not links)."""
+    return [CODE_SPAN.sub(lambda m: " " * len(m.group(0)), line) for line in prose_lines(text)]
 
 
 def slug(heading, seen):
@@ -220,6 +239,60 @@ def check_links(root, path):
                         f"{rel}:{number}: link '{target}': {os.path.relpath(resolved, root)} "
                         f"has no heading with anchor '#{anchor}'"
                     )
+    return problems, count
+
+
+# A glob or a placeholder: `lib/dynamics/lemke.*`, `lib/{io,core}`, `<run>/x`, `$(BUILD)/bin`.
+NOT_A_PATH = re.compile(r"[*?\[\]{}<>$]")
+
+
+def ignored_dirs(root):
+    """The directory patterns of root/.gitignore ("/build*/", "*.egg-info/"): outputs."""
+    with open(os.path.join(root, ".gitignore"), encoding="utf-8") as f:
+        return [line.strip() for line in f if line.strip().endswith("/") and not line.startswith(("#", "!"))]
+
+
+def is_output(quoted, patterns):
+    """Whether a repository path lies in a directory that one of .gitignore's patterns ignores."""
+    parts = quoted.rstrip("/").split("/")
+    for k in range(1, len(parts) + 1):
+        for pattern in patterns:
+            if pattern.startswith("/") and fnmatch.fnmatchcase("/".join(parts[:k]), pattern.strip("/")):
+                return True
+            if not pattern.startswith("/") and fnmatch.fnmatchcase(parts[k - 1], pattern.strip("/")):
+                return True
+    return False
+
+
+def source_dirs(root, patterns):
+    """The top-level directories of root that quoted repository paths start with."""
+    return {
+        n for n in os.listdir(root)
+        if os.path.isdir(os.path.join(root, n)) and n != ".git" and not is_output(n, patterns)
+    }
+
+
+def quoted_paths(line, dirs, patterns):
+    """The repository paths quoted in a line's inline code spans (the rule of the docstring)."""
+    for span in CODE_SPAN.finditer(line):
+        for token in span.group(2).split():
+            token = re.split(r"[:#]", token.strip("'\"()[],;"), maxsplit=1)[0]
+            if "/" in token and not NOT_A_PATH.search(token) and token.split("/", 1)[0] in dirs:
+                if not is_output(token, patterns):
+                    yield token
+
+
+def check_paths(root, path, dirs, patterns):
+    """Problems with the repository paths a markdown file quotes, and how many it quotes."""
+    problems, count = [], 0
+    rel = os.path.relpath(path, root)
+    with open(path, encoding="utf-8") as f:
+        lines = prose_lines(f.read())
+    for number, line in enumerate(lines, 1):
+        for quoted in quoted_paths(line, dirs, patterns):
+            count += 1
+            if not os.path.exists(os.path.join(root, quoted)):
+                problems.append(f"{rel}:{number}: quoted path '{quoted}' does not exist in the tree")
     return problems, count
 
 
@@ -298,11 +371,20 @@ def main():
         problems += found
         links_checked += count
 
+    paths_checked = 0
+    patterns = ignored_dirs(root)
+    dirs = source_dirs(root, patterns)
+    for path in files:
+        if path != os.path.join(root, "CHANGELOG.md"):
+            found, count = check_paths(root, path, dirs, patterns)
+            problems += found
+            paths_checked += count
+
     for p in problems:
         print(p)
     summary = (
         f"{len(programs)} programs, {options_checked} options, {len(files)} markdown files, "
-        f"{links_checked} relative links checked"
+        f"{links_checked} relative links, {paths_checked} quoted repository paths checked"
     )
     if problems:
         print(f"check_docs.py: FAILED: {len(problems)} problem(s); {summary}")
