@@ -154,7 +154,7 @@ def write_run(
 
 
 def write_packing(path, packing_fraction=0.8, grains=16, seed=1):
-    """The parts of a gf-pack packing that report.py reads."""
+    """The parts of a gf-pack packing that the report reads."""
     with h5py.File(path, "w") as f:
         f.create_group("parameters").attrs.update(
             {"packing-fraction": packing_fraction, "mean-diameter": 1.4, "seed": np.int64(seed)}

@@ -79,7 +79,7 @@ class Ch4OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
         self.run_script(
-            "report.py",
+            "report",
             "--size",
             "test",
             "--output",
@@ -114,7 +114,7 @@ if __name__ == "__main__":
 
 
 class StepNoteTest(unittest.TestCase):
-    """report.py's step-dependence paragraph on a constructed classes file with known counts."""
+    """The report's step-dependence paragraph (report/steps.py) on a constructed classes file with known counts."""
 
     CSV = """# convergence.py classes at the default step 0.001, activation predicted-gap
 packing_fraction,restitution,friction,grains,observable,label,class,default_value,default_error,limit,limit_error,exponent,exponent_error
@@ -128,9 +128,9 @@ packing_fraction,restitution,friction,grains,observable,label,class,default_valu
 """
 
     def setUp(self):
-        import report
+        from report import steps
 
-        self.report = report
+        self.report = steps
         self.tmp = tempfile.TemporaryDirectory()
         self.path = os.path.join(self.tmp.name, "classes.csv")
         with open(self.path, "w") as fh:

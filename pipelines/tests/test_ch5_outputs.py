@@ -131,7 +131,7 @@ class Ch5OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
         self.run_script(
-            "report.py",
+            "report",
             "--size",
             "test",
             "--output",

@@ -238,7 +238,7 @@ class Ch6NetworkOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         res = subprocess.run(
             [
                 sys.executable,
-                os.path.join(pipelines, "report.py"),
+                os.path.join(pipelines, "report"),
                 "--size",
                 "test",
                 "--output",
@@ -252,7 +252,7 @@ class Ch6NetworkOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
             capture_output=True,
             text=True,
         )
-        cls.report = f"report.py failed:\n{res.stderr}"
+        cls.report = f"the report failed:\n{res.stderr}"
         if res.returncode == 0:
             with open(out) as fh:
                 cls.report = fh.read()
@@ -445,7 +445,7 @@ class Ch6NetworkMakeTest(unittest.TestCase):
         )
         self.assertRegex(
             out,
-            r"report\.py .*--ch6-network TMP/runs/ch6_network\.h5 "
+            r"pipelines/report .*--ch6-network TMP/runs/ch6_network\.h5 "
             r"--ch6-network-halfstep TMP/runs/ch6_network_halfstep\.h5",
         )
         # The kinetic figures keep their own rule.
@@ -456,7 +456,7 @@ class Ch6NetworkMakeTest(unittest.TestCase):
         out = self.plan("CH6_HALFSTEP_NU=")
         self.assertNotIn("halfstep", out)
         self.assertIn("ch6_network.py --figure 6.7 TMP/runs/ch6_network.h5 TMP/figures/fig6_7.png", out)
-        self.assertRegex(out, r"report\.py .*--ch6-network TMP/runs/ch6_network\.h5 ")
+        self.assertRegex(out, r"pipelines/report .*--ch6-network TMP/runs/ch6_network\.h5 ")
 
     def test_test_size_grid(self):
         # test.mk: no correlation table, only the run with long-lived contacts.

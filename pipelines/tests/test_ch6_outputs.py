@@ -79,11 +79,11 @@ class Ch6OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         out = os.path.join(cls.tmp.name, "REPORT.md")
         pipelines = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
         res = subprocess.run(
-            [sys.executable, os.path.join(pipelines, "report.py"), "--size", "test", "--output", out,
+            [sys.executable, os.path.join(pipelines, "report"), "--size", "test", "--output", out,
              "--ch5-correlate", cls.correlate, "--ch6-kinetic", cls.kinetic, cls.packing],
             capture_output=True, text=True,
         )
-        cls.report = f"report.py failed:\n{res.stderr}"
+        cls.report = f"the report failed:\n{res.stderr}"
         if res.returncode == 0:
             with open(out) as fh:
                 cls.report = fh.read()
@@ -179,7 +179,7 @@ class Ch6OutputsTest(unittest.TestCase, synthetic.ScriptRunner):
         kinetic = synthetic.write_kinetic_table(os.path.join(d, "nan_kinetic.h5"), rows)
         out = os.path.join(d, "NAN_REPORT.md")
         self.run_script(
-            "report.py", "--size", "test", "--output", out, "--ch5-correlate", self.correlate,
+            "report", "--size", "test", "--output", out, "--ch5-correlate", self.correlate,
             "--ch6-kinetic", kinetic, self.packing,
         )
         with open(out) as fh:

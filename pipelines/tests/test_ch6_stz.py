@@ -475,7 +475,7 @@ class FitTableAndCurve(unittest.TestCase):
 
 
 class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
-    """The figure script draws the three figures and report.py writes both sections with the
+    """The figure script draws the three figures and the report writes both sections with the
     tables' numbers."""
 
     @classmethod
@@ -498,7 +498,7 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
         res = subprocess.run(
             [
                 sys.executable,
-                os.path.join(PIPELINES, "report.py"),
+                os.path.join(PIPELINES, "report"),
                 "--size",
                 "test",
                 "--output",
@@ -512,15 +512,15 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
             capture_output=True,
             text=True,
         )
-        cls.report = f"report.py failed:\n{res.stderr}"
+        cls.report = f"the report failed:\n{res.stderr}"
         if res.returncode == 0:
             with open(out) as fh:
                 cls.report = fh.read()
         # The same with the critical-angle table (it needs the incline table beside it: the
         # section function is called directly instead).
-        import report  # noqa: E402  (pipelines/ is on the path of these tests)
+        from report import ch6_stz  # noqa: E402  (pipelines/ is on the path of these tests)
 
-        cls.with_critical = "\n".join(report.ch6_stz_section(cls.fit, cls.critical))
+        cls.with_critical = "\n".join(ch6_stz.stz_section(cls.fit, cls.critical))
 
     @classmethod
     def tearDownClass(cls):
@@ -571,7 +571,7 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
     def test_degenerate_coefficients_use_the_jackknife(self):
         # A μ = 0 fit whose A, κ, ζ run off (errors ~10¹³ times the values) and whose delta-method
         # θ* error is NaN, as the quick size's: the jackknife error is shown and used against θ_c.
-        import report  # noqa: E402
+        from report import ch6_stz  # noqa: E402
 
         with tempfile.TemporaryDirectory() as d:
             path = write_fit(os.path.join(d, "fit.h5"), fit_rows(d))
@@ -580,7 +580,7 @@ class Ch6StzOutputs(unittest.TestCase, synthetic.ScriptRunner):
                 f["fit/tan_theta_star_error"][0] = NAN
                 f["fit/theta_star_error"][0] = NAN
                 f["fit/theta_star_jackknife_error"] = np.array([0.75, 0.4])
-            text = "\n".join(report.ch6_stz_section(path, self.critical))
+            text = "\n".join(ch6_stz.stz_section(path, self.critical))
         self.assertIn("| 0.24 | 13.5 | 0.75 | 2/1 |", text)
         self.assertIn("At μ = 0 A, κ and ζ are not determined one by one", text)
         self.assertNotIn("At μ = 0, 0.4", text)
@@ -665,7 +665,7 @@ class Ch6StzMake(unittest.TestCase):
         expected += [f"shear_nu{nu}_e0.00_mu0.40_r1e-02_s1.h5" for nu in ("0.600", "0.700", "0.740", "0.760")]
         self.assertEqual(runs, expected)
         out = self.dry_run("TMP/figures/REPORT.md")
-        self.assertRegex(out, r"report\.py .*--ch6-stz TMP/runs/ch6_stz\.h5 --ch6-d2min TMP/runs/ch6_d2min_maps\.h5")
+        self.assertRegex(out, r"pipelines/report .*--ch6-stz TMP/runs/ch6_stz\.h5 --ch6-d2min TMP/runs/ch6_d2min_maps\.h5")
 
     def test_correlation_table_when_given(self):
         out = self.dry_run("ch6-files", CH6_STZ_CORRELATION="$(RUNS)/ch5_correlate.h5")

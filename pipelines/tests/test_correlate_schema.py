@@ -16,8 +16,8 @@ from unittest import mock
 
 import h5py
 
-import report
 from granflow import correlation_table as ct
+from report import ch5
 
 import synthetic  # a sibling module: the tests' own fixtures
 
@@ -214,7 +214,7 @@ class CorrelateSchemaTest(unittest.TestCase):
             for script, *args in commands:
                 with self.subTest(script=script, args=args), mock.patch.object(sys, "argv", [script, *args, out]):
                     runpy.run_path(os.path.join(PIPELINES, "plot", script), run_name="__main__")
-            report.ch5_section(table, clusters)
+            ch5.section(table, clusters)
         self.assertTrue(any(kind == "dataset" for _, _, kind, _ in log), "nothing was recorded")
         for path, group, kind, name in sorted(log):
             for label, target in (("synthetic", path), ("gf-correlate", self.real[path])):

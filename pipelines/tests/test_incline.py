@@ -274,7 +274,7 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
     def test_report_section(self):
         out = os.path.join(self.tmp.name, "REPORT.md")
         self.run_script(
-            "report.py",
+            "report",
             "--size",
             "test",
             "--output",
@@ -306,13 +306,13 @@ class InclineOutputsTest(unittest.TestCase, synthetic.ScriptRunner):
 
     def test_report_against_shear(self):
         # The shear section needs the ch4 tables; here only the incline-vs-shear interpolation.
-        import report
+        from report import ch4_incline
 
         sweep = ss.read_table(self.sweep_table)
-        got = report.interpolate_shear(sweep, 0.0, 0.5, "s_over_p", 0.81)
+        got = ch4_incline.interpolate_shear(sweep, 0.0, 0.5, "s_over_p", 0.81)
         self.assertIsNotNone(got)
         self.assertAlmostEqual(got[0], 0.35, delta=0.01)  # s = 0.35 p in every synthetic shear run
-        self.assertIsNone(report.interpolate_shear(sweep, 0.0, 0.5, "s_over_p", 0.9))
+        self.assertIsNone(ch4_incline.interpolate_shear(sweep, 0.0, 0.5, "s_over_p", 0.9))
 
 
 if __name__ == "__main__":

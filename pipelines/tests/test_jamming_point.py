@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 
 from analysis import jamming_point as jp
-import report
+from report import ch5
 
 PIPELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 # The package granflow's source directory (python/ beside pipelines/).
@@ -134,7 +134,7 @@ class ProgramTest(unittest.TestCase):
             self.assertEqual(len(f["fits/nu_c"]), 6)
             np.testing.assert_array_equal(f["parameters"].attrs["exponents"], [1.9, 2.5])
         # The report's section: one row per group, the known ν_c of each quantity's free fit.
-        text = "\n".join(report.ch5_jamming_section(out))
+        text = "\n".join(ch5.jamming_section(out))
         self.assertIn("(thesis l. 568)", text)
         self.assertRegex(text, r"\| 0 \| 0 \| 9 \| 0\.795 \| 0\.8400 \[0\.8\d+, 0\.8\d+\] \| 2\.20 \|")
         self.assertRegex(text, r"\| 0\.4 \| 0 \| 9 \| 0\.795 \| 0\.8060 \[.*\| 0\.8060 \[[^|]*\| 1\.90 \|")
@@ -153,14 +153,14 @@ class ProgramTest(unittest.TestCase):
             self.assertEqual(list(f["skipped/friction"][...]), [0.4])
             self.assertEqual(list(f["skipped/points"][...]), [3])
         self.assertIn("Not fitted (fewer than 4 runs at ν ≥ 0.7): μ = 0.4, e = 0 (3).",
-                      "\n".join(report.ch5_jamming_section(out)))
+                      "\n".join(ch5.jamming_section(out)))
         # Only the small group selected: a table with no fit, the group listed.
         done = self.run_program("--friction", "0.4", "-o", out, few)
         self.assertEqual(done.returncode, 0, done.stderr)
         with h5py.File(out, "r") as f:
             self.assertEqual(len(f["fits/nu_c"]), 0)
             self.assertEqual(list(f["skipped/points"][...]), [3])
-        self.assertNotIn("| μ | e |", "\n".join(report.ch5_jamming_section(out)))
+        self.assertNotIn("| μ | e |", "\n".join(ch5.jamming_section(out)))
 
     def test_bad_input_writes_nothing(self):
         out = os.path.join(self.tmp.name, "fit.h5")

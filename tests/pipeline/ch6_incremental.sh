@@ -6,7 +6,7 @@
 # change of gf-kinetic's machine code writes) makes exactly the kinetic table, its figures and the
 # report out of date, a new gf-network stamp exactly the two force-network tables, Figs
 # 6.5-6.8 and the report, and a new gf-stz stamp exactly the four D²min maps, their table, the
-# STZ fit, Figs 6.9-6.11 and the report: remaking runs that program, its scripts and report.py,
+# STZ fit, Figs 6.9-6.11 and the report: remaking runs that program, its scripts and the report,
 # never a simulation or another analysis, and leaves every other file as it was.
 set -euo pipefail
 src=${1:?usage: ch6_incremental.sh SOURCE_DIR}
@@ -142,11 +142,11 @@ remakes() {
   done <<<"$before"
 }
 simulations='bin/gf-(shear|pack|correlate|incline)|steady_state\.py|incline_bulk\.py|critical_angle\.py|plot/(ch[45]_|snapshot)'
-remakes gf-kinetic "ch6_kinetic.py report.py" "$simulations|bin/gf-(network|stz)|ch6_(network|stz)\.py|d2min_maps\.py" \
+remakes gf-kinetic "ch6_kinetic.py pipelines/report" "$simulations|bin/gf-(network|stz)|ch6_(network|stz)\.py|d2min_maps\.py" \
   runs/test/ch6_kinetic.h5 figures/fig6_1.png figures/fig6_3.png figures/REPORT.md
-remakes gf-network "ch6_network.py report.py" "$simulations|bin/gf-(kinetic|stz)|ch6_(kinetic|stz)\.py|d2min_maps\.py" \
+remakes gf-network "ch6_network.py pipelines/report" "$simulations|bin/gf-(kinetic|stz)|ch6_(kinetic|stz)\.py|d2min_maps\.py" \
   runs/test/ch6_network.h5 runs/test/ch6_network_halfstep.h5 figures/fig6_{5,6,7,8}.png figures/REPORT.md
-remakes gf-stz "d2min_maps.py ch6_stz.py report.py" "$simulations|bin/gf-(kinetic|network)|ch6_(kinetic|network)\.py" \
+remakes gf-stz "d2min_maps.py ch6_stz.py pipelines/report" "$simulations|bin/gf-(kinetic|network)|ch6_(kinetic|network)\.py" \
   runs/test/ch6_d2min_{a,b,c,d}.h5 runs/test/ch6_d2min_maps.h5 runs/test/ch6_stz.h5 figures/fig6_{9,10,11}.png \
   figures/REPORT.md
 echo "pipeline ch6_incremental: 1 passed, 0 failed"
