@@ -5,7 +5,7 @@ import os
 import numpy as np
 
 from analysis import steady_state as ss
-from report.render import fmt, head, quote, sigmas
+from report.render import fmt, head, quote, sigmas, subsection
 
 # Fig 4.3's invariants and Fig 4.2's scaled quantities: (table column, label).
 INVARIANTS = (("s_over_p", "s/p"), ("rate_R_over_sqrt_T", "γ̇⟨R⟩/√T"), ("mT_over_pR2", "mT/(p⟨R⟩²)"))
@@ -136,11 +136,7 @@ def transient_lines(check, from_strain, reference_path):
     """Fig 4.3: the transient() check of the reference run."""
     middle, end = check["middle"], check["end"]
     lines = [
-        "",
-        "### Steady state and fluctuations (Fig 4.3)",
-        "",
-        quote("steady_reached"),
-        quote("fluctuations"),
+        *subsection("Steady state and fluctuations (Fig 4.3)", "steady_reached", "fluctuations"),
         f"Ours (`{os.path.basename(reference_path)}`): the steady part split in two halves — equal means "
         "(|difference| of a few σ at most) say the transient is over by strain "
         f"{from_strain:g}; relative fluctuation = standard deviation / mean of the per-step values.",
@@ -172,13 +168,10 @@ def rheology_lines(sweep):
     """Figs 4.4 and 4.5: the steady rheology against ν at e = 0, μ = 0, N₁ and the pressure's parts."""
     runs = sweep["runs"]
     lines = [
-        "",
-        "### Steady rheology against ν, e = 0, μ = 0 (Figs 4.4, 4.5)",
-        "",
-        quote("dense_increase"),
-        quote("stress_diverges"),
-        quote("n1_previous"),
-        quote("static_over_kinetic"),
+        *subsection(
+            "Steady rheology against ν, e = 0, μ = 0 (Figs 4.4, 4.5)",
+            "dense_increase", "stress_diverges", "n1_previous", "static_over_kinetic",
+        ),
         *head("ν", "steady from", "p/(γ̇²m)", "s/(γ̇²m)", "T/(γ̇²⟨R⟩²)", "s/p", "N₁", "pˢ/(γ̇²m)", "pᵏ/(γ̇²m)"),
     ]
     for r in ss.select(sweep, restitution=0.0, friction=0.0):
@@ -219,11 +212,7 @@ def static_pressure_lines(sweep):
     """Fig 4.6: the static pressure against ν for every e at μ = 0."""
     es, rows = static_pressure(sweep)
     lines = [
-        "",
-        "### Static pressure for several e, μ = 0 (Fig 4.6)",
-        "",
-        quote("pressure_independent_of_e"),
-        quote("variance_with_e"),
+        *subsection("Static pressure for several e, μ = 0 (Fig 4.6)", "pressure_independent_of_e", "variance_with_e"),
         *head("ν", *(f"pˢ/(γ̇²m), e = {e:g}" for e in es), "max/min over e"),
     ]
     for nu, at_e, ratio in rows:

@@ -8,7 +8,7 @@ import numpy as np
 from analysis import critical_angle as ca
 from analysis import incline_bulk as ib
 from analysis import steady_state as ss
-from report.render import fmt, head, quote, sigmas
+from report.render import fmt, head, quote, sigmas, subsection
 
 # The bulk invariants beside simple shear's: (incline column, shear column, label).
 INVARIANTS = (
@@ -143,10 +143,7 @@ def comparison_lines(inc, sweep, sweep_path, flowing):
     """Fig 4.10: the bulk invariants against simple shear's at the same ν."""
     runs, bulk = inc["runs"], inc["bulk"]
     lines = [
-        "",
-        "### Incline bulk against simple shear at the same ν (Fig 4.10)",
-        "",
-        quote("shear_incline_match"),
+        *subsection("Incline bulk against simple shear at the same ν (Fig 4.10)", "shear_incline_match"),
         f"Shear values from `{sweep_path}` at the same μ and e, linearly interpolated in ν between the "
         "sweep's packing fractions (– when the incline's ν is outside them); difference in units of the "
         "combined error (incline: bulk-layer scatter; shear: blocking).",
@@ -168,10 +165,7 @@ def critical_lines(crit, critical_path):
     cr, res = crit["runs"], crit["critical_angle"]
     below, above = float(res["theta_below"]), float(res["theta_above"])
     lines = [
-        "",
-        "### Critical angle θ_c (§4.3.1)",
-        "",
-        quote("critical_angle"),
+        *subsection("Critical angle θ_c (§4.3.1)", "critical_angle"),
         f"Table `{critical_path}` from `pipelines/analysis/critical_angle.py`: mean flow rate V̄ over the "
         f"last {float(crit['parameters']['window']):g} τ of each run (blocking error), change Δ between "
         f"that window's halves; rest = |V̄| ≤ max(3σ, {float(crit['parameters']['rest_velocity']):g}), "

@@ -9,7 +9,7 @@ import numpy as np
 from analysis import jamming_point
 from granflow import correlation_table as ct
 from granflow import outputs
-from report.render import head, quote
+from report.render import head, quote, subsection
 
 # gf-correlate's ν_bc status codes (/sweep/status).
 STATUS_NAMES = {0: "bracketed", 1: "all_above", 2: "all_below", 3: "too_few", 4: "only_downward"}
@@ -302,10 +302,7 @@ def jamming_section(jamming_path):
     table = outputs.read_table(jamming_path, ("fits", "skipped"))
     fits, skipped, prm = table["fits"], table["skipped"], table["parameters"]
     lines = [
-        "",
-        "### ν_c from the steady stresses (jamming_point.py)",
-        "",
-        quote("nu_c_diverges"),
+        *subsection("ν_c from the steady stresses (jamming_point.py)", "nu_c_diverges"),
         f"Table `{jamming_path}`: per (μ, e), the runs at ν ≥ {float(prm['from_nu']):g} fitted to "
         "q = A (ν_c − ν)^−β, q = p/(mγ̇²) or s/(mγ̇²) (weighted least squares in ln q; ν_c's interval where "
         "χ² stays within max(1, χ²/dof) of its minimum; `pipelines/analysis/jamming_point.py`). The thesis "

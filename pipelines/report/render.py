@@ -34,6 +34,11 @@ def quote(key):
     return f"> “{text}” (thesis l. {line})\n"
 
 
+def subsection(title, *keys):
+    """A subsection's heading ("### title", after a blank line) and the thesis sentences it checks."""
+    return ["", f"### {title}", "", *(quote(k) for k in keys)]
+
+
 def head(*columns):
     """A table's header row and its separator."""
     return ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
