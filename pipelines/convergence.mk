@@ -17,8 +17,8 @@
 # observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
 # exponent, or unsettled), convergence_classes.csv (the classes alone, which the report,
-# pipelines/report/, reads from its committed copy docs/results/convergence_classes.csv) and $(FIGURES)/fig4_2_step.png, Fig.
-# 4.2's companion at fixed γ̇.
+# pipelines/report/, reads from its committed copy docs/results/convergence_classes.csv) and
+# $(FIGURES)/fig4_2_step.png, Fig. 4.2's companion at fixed γ̇.
 CONVERGENCE ?= pipelines/sizes/convergence.mk
 include $(CONVERGENCE)
 CONV_RUNS ?= runs/convergence
