@@ -19,7 +19,8 @@ Fails (exit 1, one line per problem) when
     placeholder character (* ? [ ] { } < > $), and paths in a directory that REPO_ROOT/.gitignore
     ignores by a directory pattern ("/build*/", "/runs/", "/figures/", "/python/build/",
     "*.egg-info/": outputs of the build and the pipelines, absent from a fresh clone).
-    CHANGELOG.md's paths are history and are not checked; its links are;
+    CHANGELOG.md's paths are history and are not checked; its links are. The check first runs on
+    a planted page and fails unless it reports exactly the planted dangling path;
   * the version is not the same in its one place (CMakeLists.txt's project(... VERSION x.y.z)),
     every `version:` of CITATION.cff and the first line of every program's --version, or
     CHANGELOG.md has no section "## x.y.z" or "## Unreleased" above it (docs/releases.md);
@@ -35,6 +36,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 
 # An option line of the --help text written by lib/core/cli: "  -o, --output <FILE>" or
 # "      --version"; descriptions follow on lines of their own.
@@ -296,6 +298,25 @@ def check_paths(root, path, dirs, patterns):
     return problems, count
 
 
+def check_paths_self_test(root, dirs, patterns):
+    """Problems if the quoted-path check misses a planted dangling path, or flags what its rule
+    leaves out (an output, a glob, an assignment, a fenced block)."""
+    planted = "lib/no_such_dir/planted.hpp"
+    text = (
+        f"Planted: `{planted}:12`, `runs/quick/x.h5`, `lib/*.hpp`, `-DX=lib/none`, `lib/`.\n"
+        "```sh\ncat lib/no_such_dir/fenced.hpp\n```\n"
+    )
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "planted.md")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+        found, count = check_paths(root, path, dirs, patterns)
+    wanted = [f"{os.path.relpath(path, root)}:1: quoted path '{planted}' does not exist in the tree"]
+    if found != wanted or count != 2:
+        return [f"check_docs.py: the quoted-path check found {found} ({count} paths) in a planted page, not {wanted}"]
+    return []
+
+
 def check_version(root, bin_dir, programs):
     """Problems with the version's one place and its copies (docs/releases.md)."""
     problems = []
@@ -374,6 +395,7 @@ def main():
     paths_checked = 0
     patterns = ignored_dirs(root)
     dirs = source_dirs(root, patterns)
+    problems += check_paths_self_test(root, dirs, patterns)
     for path in files:
         if path != os.path.join(root, "CHANGELOG.md"):
             found, count = check_paths(root, path, dirs, patterns)
