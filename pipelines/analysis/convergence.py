@@ -40,7 +40,7 @@ exponent, exponent_error, chi2_dof, exponent_finest (between the two finest step
 (finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point;
 Values, errors and limits are in the row's unit (the string column `unit`, the observable's unit in its
 table divided by γ̇^power; their datasets' attribute unit_column = "unit"); the other columns are numbers.
---classes-csv the classes alone, one CSV line per (point, observable), for report.py --step-classes.
+--classes-csv the classes alone, one CSV line per (point, observable), for the report (pipelines/report) --step-classes.
 """
 import argparse
 import csv
@@ -606,7 +606,7 @@ CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "observa
 
 def write_classes_csv(path, classes, observables, default_step, activation):
     """One line per (point, observable) classified: the columns of CSV_COLUMNS, after a comment
-    line naming the default step and the activation (read by report.py --step-classes)."""
+    line naming the default step and the activation (read by the report, pipelines/report, --step-classes)."""
     labels = {o[0]: o[1] for o in observables}
     fh = io.StringIO()
     fh.write(f"# convergence.py classes at the default step {default_step:g}, activation {activation}\n")
