@@ -17,7 +17,8 @@
 # observable, the values against the
 # step and the class (converged, converging with its limit, regularisation-dependent with its
 # exponent, or unsettled), convergence_classes.csv (the classes alone, which the report,
-# pipelines/report/, reads from its committed copy docs/results/convergence_classes.csv) and
+# pipelines/report/, reads from its committed copy docs/results/convergence_classes.csv),
+# convergence_series.csv (every value, committed as docs/results/convergence_series.csv) and
 # $(FIGURES)/fig4_2_step.png, Fig. 4.2's companion at fixed γ̇.
 CONVERGENCE ?= pipelines/sizes/convergence.mk
 include $(CONVERGENCE)
@@ -53,7 +54,8 @@ CONV_SIM := $(sort $(CONV_SIM))
 CONV_STEMS := $(patsubst $(CONV_RUNS)/conv_n%.h5,%,$(CONV_SIM))
 CONV_TABLES := $(foreach k,steady correlate network kinetic d2min $(CONV_CONTACT_GAPS:%=network_gap%),\
                  $(CONV_STEMS:%=$(CONV_RUNS)/$(k)_n%.h5))
-CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md $(CONV_RUNS)/convergence_classes.csv
+CONV_SUMMARY := $(CONV_RUNS)/convergence.h5 $(CONV_RUNS)/convergence.md $(CONV_RUNS)/convergence_classes.csv \
+                $(CONV_RUNS)/convergence_series.csv
 CONV_ANALYSIS := $(GRANFLOW_PY) $(CONVERGENCE)
 
 CONV_FIGURE ?= $(FIGURES)/fig4_2_step.png
@@ -116,7 +118,8 @@ $(CONV_RUNS)/d2min_n%.h5: $(CONV_RUNS)/conv_n%.h5 $(STAMPS)/gf-stz.stamp pipelin
 $(CONV_SUMMARY) &: $(CONV_TABLES) pipelines/analysis/convergence.py $(STATISTICS_STAMP) $(CONV_ANALYSIS) | $(CONV_RUNS)/
 	$(PYTHON) pipelines/analysis/convergence.py --default-step $(CONV_DEFAULT_STEP) \
 	  --reference $(CONV_REFERENCE) -o $(CONV_RUNS)/convergence.h5 --markdown $(CONV_RUNS)/convergence.md \
-	  --classes-csv $(CONV_RUNS)/convergence_classes.csv $(CONV_TABLES)
+	  --classes-csv $(CONV_RUNS)/convergence_classes.csv --series-csv $(CONV_RUNS)/convergence_series.csv \
+	  $(CONV_TABLES)
 
 # Fig. 4.2's companion: p, s/p and T against the step at fixed γ̇.
 $(CONV_FIGURE): $(CONV_RUNS)/convergence.h5 pipelines/plot/convergence_step.py $(GRANFLOW_PY) | $(FIGURES)/

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""convergence.py --default-step H --reference NU:E:MU --output OUT.h5 [--markdown OUT.md] TABLE.h5...:
+"""convergence.py --default-step H --reference NU:E:MU --output OUT.h5 [--markdown OUT.md] [--classes-csv OUT.csv]
+[--series-csv OUT.csv] TABLE.h5...:
 every observable of the reproduction against the strain step h = γ̇dt, and its class.
 
 Beside the tables' observables, from each run's own rows over the steady window: the mean of
@@ -40,7 +41,8 @@ exponent, exponent_error, chi2_dof, exponent_finest (between the two finest step
 (finest over coarsest value), power_fits (1 when c·h^α fits). --markdown writes the same as tables, one per point;
 Values, errors and limits are in the row's unit (the string column `unit`, the observable's unit in its
 table divided by γ̇^power; their datasets' attribute unit_column = "unit"); the other columns are numbers.
---classes-csv the classes alone, one CSV line per (point, observable), for the report (pipelines/report) --step-classes.
+--classes-csv the classes alone, one CSV line per (point, observable), for the report (pipelines/report) --step-classes;
+--series-csv every value of /series, one CSV line per (point, N, tolerance, step, observable), with its label and unit.
 """
 import argparse
 import csv
@@ -502,6 +504,8 @@ def main():
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("--markdown", help="also write the tables as Markdown to this file")
     ap.add_argument("--classes-csv", help="also write every class as one CSV line per point and observable here")
+    ap.add_argument("--series-csv", help="also write every value as one CSV line per point, N, tolerance, step and "
+                                         "observable here")
     ap.add_argument("tables", nargs="+", help="per-run tables of steady_state.py, gf-correlate, gf-network, gf-kinetic")
     args = ap.parse_args()
     try:
@@ -513,7 +517,7 @@ def main():
     for path in args.tables:
         if not os.path.isfile(path):
             ap.error(f"{path}: no such table")
-    for out in (args.output, args.markdown, args.classes_csv):
+    for out in (args.output, args.markdown, args.classes_csv, args.series_csv):
         if out and any(os.path.abspath(out) == os.path.abspath(t) for t in args.tables):
             ap.error(f"{out}: the output is also an input")
     try:
@@ -597,6 +601,8 @@ def main():
                                                    activation))
     if args.classes_csv:
         write_classes_csv(args.classes_csv, classes, observables, args.default_step, activation)
+    if args.series_csv:
+        write_series_csv(args.series_csv, series, observables, units, args.default_step, activation)
     return 0
 
 
@@ -617,6 +623,35 @@ def write_classes_csv(path, classes, observables, default_step, activation):
             c = classes[key][obs]
             w.writerow([f"{key[1]:.3f}", f"{key[2]:.2f}", f"{key[3]:.2f}", key[0], obs, labels.get(obs, obs),
                         c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])])
+    outputs.write_text(path, fh.getvalue())
+
+
+SERIES_CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "tolerance", "step", "observable",
+                      "label", "unit", "value", "error")
+
+
+def write_series_csv(path, series, observables, units, default_step, activation):
+    """One line per (point, N, tolerance, step, observable): the columns of SERIES_CSV_COLUMNS (value and
+    error in the row's unit, empty when not finite), after a comment line naming the default step and
+    the activation; points in order, steps from the coarsest, observables in the tables' order."""
+    order = [o[0] for o in observables]
+    labels = {o[0]: o[1] for o in observables}
+    fh = io.StringIO()
+    fh.write(f"# convergence.py series at the default step {default_step:g}, activation {activation}\n")
+    w = csv.writer(fh, lineterminator="\n")
+    w.writerow(SERIES_CSV_COLUMNS)
+
+    def number(x):
+        return f"{x:.6g}" if np.isfinite(x) else ""
+
+    for key in sorted(series, key=lambda k: (k[1], k[2], k[3], k[0], k[4])):
+        grains, nu, e, mu, tol = key
+        for step in sorted(series[key], reverse=True):
+            values = series[key][step]
+            for obs in (o for o in order if o in values):
+                value, error = values[obs]
+                w.writerow([f"{nu:.3f}", f"{e:.2f}", f"{mu:.2f}", grains, f"{tol:g}", f"{step:g}", obs,
+                            labels.get(obs, obs), units[obs], number(value), number(error)])
     outputs.write_text(path, fh.getvalue())
 
 

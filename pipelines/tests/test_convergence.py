@@ -1,5 +1,7 @@
-"""convergence.py: the classes on constructed series with known answers, and the convergence
-study's make target end to end on a tiny grid (and its refusal of a grid with one step)."""
+"""convergence.py: the classes on constructed series with known answers, the convergence
+study's make target end to end on a tiny grid (and its refusal of a grid with one step), and the
+study's committed CSV files against each other."""
+import csv
 import math
 import os
 import tempfile
@@ -230,6 +232,19 @@ class ConvergenceMakeTest(unittest.TestCase):
                 row = (np.isclose(nu, f["classes/packing_fraction"][k])) & (steps == 1e-3) & (tol == 1e-10)
                 sp = [v for v, o in zip(f["series/value"][()][row], np.array(obs)[row]) if o == "s_over_p"]
                 self.assertEqual(sp, [f["classes/default_value"][k]])
+                # The series CSV holds /series row for row, in its units, to 6 significant digits.
+                series = read_csv(f"{d}/runs/convergence_series.csv")
+                self.assertEqual(len(series), len(steps))
+                units = [u.decode() if isinstance(u, bytes) else u for u in f["series/unit"][()]]
+                got = {(r["packing_fraction"], r["tolerance"], r["step"], r["observable"]): r for r in series}
+                for i in range(len(steps)):
+                    r = got[(f"{nu[i]:.3f}", f"{tol[i]:g}", f"{steps[i]:g}", obs[i])]
+                    self.assertEqual(r["unit"], units[i])
+                    value = f["series/value"][i]
+                    if np.isfinite(value):
+                        self.assertAlmostEqual(float(r["value"]), value, delta=1e-5 * abs(value))
+                    else:
+                        self.assertEqual(r["value"], "")
             with open(f"{d}/runs/convergence.md") as fh:
                 md = fh.read()
             self.assertIn("### ν = 0.700, e = 0.50, μ = 0.00, N = 64, tolerance 1e-10", md)
@@ -252,6 +267,38 @@ class ConvergenceMakeTest(unittest.TestCase):
     def test_default_step_outside_the_grid_is_refused(self):
         with tempfile.TemporaryDirectory() as d:
             study_make.assert_refused(self, self.make(d, "2e-3 5e-4"), d, "CONV_DEFAULT_STEP")
+
+
+def read_csv(path):
+    """The rows of a convergence.py CSV file (after its comment line) as dicts."""
+    with open(path, newline="") as fh:
+        lines = [line for line in fh if not line.startswith("#")]
+    return list(csv.DictReader(lines))
+
+
+class CommittedFilesTest(unittest.TestCase):
+    """docs/results' two CSV files come from one convergence.py run: each class's default value and
+    error are the series' at the default step, tolerance 1e-10, for the same point and N."""
+
+    def test_classes_match_the_series(self):
+        results = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "results")
+        classes = read_csv(os.path.join(results, "convergence_classes.csv"))
+        series = read_csv(os.path.join(results, "convergence_series.csv"))
+        with open(os.path.join(results, "convergence_classes.csv")) as fh:
+            default = fh.readline().split("default step ")[1].split(",")[0]
+        at_default = {(r["packing_fraction"], r["restitution"], r["friction"], r["grains"], r["observable"]): r
+                      for r in series if r["step"] == default and r["tolerance"] == "1e-10"}
+        self.assertGreater(len(classes), 100)
+        for c in classes:
+            key = (c["packing_fraction"], c["restitution"], c["friction"], c["grains"], c["observable"])
+            self.assertIn(key, at_default, "class without a series value at the default step")
+            for column in ("value", "error"):
+                theirs, ours = at_default[key][column], c["default_" + column]
+                if theirs == "" or ours in ("nan", "inf", "-inf"):
+                    self.assertTrue(theirs == "" and ours in ("nan", "inf", "-inf"), (key, column, theirs, ours))
+                else:
+                    self.assertAlmostEqual(float(theirs), float(ours), delta=1e-5 * abs(float(ours)) + 1e-300,
+                                           msg=(key, column))
 
 
 if __name__ == "__main__":
