@@ -46,7 +46,7 @@ void add_contact_options(CommandLine& cli) {
   cli.integer_option("region-solve-after", 0, "N",
                      "with friction: sweeps of a step after which the places still holding it up are solved "
                      "exactly (regions of at most 300 contacts, by Lemke's method), then again every 500 sweeps over "
-                     "wider regions; 0 = never. No effect without friction or with --no-cluster-solves",
+                     "wider regions; 0 = never. No effect without friction; refused with --no-cluster-solves",
                      "1000");
   cli.conflicts("region-solve-after", "no-cluster-solves");
   cli.integer_option(
