@@ -53,16 +53,6 @@ struct Target {
   io::Parameters per_run;
 };
 
-// A column of one of the eq. 5.3 fits, fit(result).
-template <class Fit>
-auto fit_column(const Target& t, Fit fit) {
-  return [&t, fit](const char* name, double AnisotropyFit::*member, const char* meaning, const char* units) {
-    t.w.write(std::string("/correlation/") + name, {t.n},
-              column(t.n, [&](std::size_t i) { return std::invoke(fit, t.report.results[i]).*member; }), meaning, units,
-              t.per_run);
-  };
-}
-
 // The attributes of /correlation: the grid, the window, the rules of ξ_|C| and C, the map's method.
 io::Parameters correlation_attributes(const Report& report) {
   const LagGrid& grid = report.grid;
@@ -126,7 +116,18 @@ void write_runs_table(const Target& t) {
   io::TableWriter(t.w, "/runs", "").write(rows, run_columns());
 }
 
-// /correlation: the isotropic C(l) and the lengths of eq. 5.2 (ξ, ξ_length).
+// /correlation's per-run datasets (correlation_columns()).
+void write_correlation_table(const Target& t) {
+  const Report& report = t.report;
+  std::vector<CorrelationRow> rows;
+  for (std::size_t i = 0; i < t.n; ++i)
+    rows.push_back({report.results[i], report.xi_ratio[i], report.xi_ratio_error[i], report.xi_length_ratio[i],
+                    report.xi_length_ratio_error[i], report.xi_abs_ratio[i], report.xi_abs_ratio_error[i]});
+  io::TableWriter(t.w, "/correlation", kPerRun).write(rows, correlation_columns());
+}
+
+// /correlation: the isotropic C(l), ξ truncated at each bin, and the elastic lengths of eq. 5.2
+// (ξ_el, ξ_length_el).
 void write_isotropic(const Target& t) {
   io::AnalysisWriter& w = t.w;
   const Report& report = t.report;
@@ -145,30 +146,13 @@ void write_isotropic(const Target& t) {
   w.write("/correlation/xi_truncated", {n, nb}, rows(res, &RunResult::xi_truncated),
           "xi of eq. 5.2 with both integrals truncated at the bin's upper edge (convergence with max_lag)", "length",
           per_run);
-  w.write("/correlation/xi", {n}, column(n, [&](std::size_t i) { return res[i].xi; }),
-          "correlation length xi, eq. 5.2 taken literally on the signed C: sum w / sum (w/l) over pairs with l < "
-          "max_lag (exact integrals of the sampled C); ill-conditioned in dense flows, where int C dl crosses zero "
-          "(see xi_abs)",
-          "length", per_run);
-  w.write("/correlation/xi_error", {n}, column(n, [&](std::size_t i) { return res[i].xi_error; }),
-          "jackknife standard error of xi", "length", per_run);
   w.write("/correlation/xi_el", {}, std::vector<double>{report.xi_el},
           report.references.empty() ? "elastic (dilute) reference length xi_el, given by --xi-el (NaN: none given)"
                                     : "elastic (dilute) reference length xi_el: xi of all reference frames pooled",
           "length");
   w.write("/correlation/xi_el_error", {}, std::vector<double>{report.xi_el_error},
           "standard error of xi_el (jackknife over all reference blocks; 0 when given)", "length");
-  w.write("/correlation/xi_ratio", {n}, report.xi_ratio, "xi / xi_el", "1", per_run);
-  w.write("/correlation/xi_ratio_error", {n}, report.xi_ratio_error,
-          "standard error of xi / xi_el (errors of xi and xi_el combined in quadrature)", "1", per_run);
   // ξ with C read as a density per unit length (force_correlation.hpp, Density::length).
-  w.write("/correlation/xi_length", {n}, column(n, [&](std::size_t i) { return res[i].xi_length; }),
-          "correlation length of eq. 5.2 with C read as a density per unit length, C_L(l) = 2 pi l C(l) (the "
-          "radial pair sum per unit l): int l C_L dl / int C_L dl = sum (w l) / sum w over pairs with l < max_lag "
-          "(exact integrals of the sampled C); xi is the same with C per unit area",
-          "length", per_run);
-  w.write("/correlation/xi_length_error", {n}, column(n, [&](std::size_t i) { return res[i].xi_length_error; }),
-          "jackknife standard error of xi_length", "length", per_run);
   w.write("/correlation/xi_length_truncated", {n, nb}, rows(res, &RunResult::xi_length_truncated),
           "xi_length with both integrals truncated at the bin's upper edge (convergence with max_lag)", "length",
           per_run);
@@ -178,12 +162,9 @@ void write_isotropic(const Target& t) {
           "length");
   w.write("/correlation/xi_length_el_error", {}, std::vector<double>{report.xi_length_el_error},
           "jackknife standard error of xi_length_el (over all reference blocks)", "length");
-  w.write("/correlation/xi_length_ratio", {n}, report.xi_length_ratio, "xi_length / xi_length_el", "1", per_run);
-  w.write("/correlation/xi_length_ratio_error", {n}, report.xi_length_ratio_error,
-          "standard error of xi_length / xi_length_el (errors combined in quadrature)", "1", per_run);
 }
 
-// /correlation: ξ_|C|, the decay length of |C| (decay_length.hpp), and its anisotropy fit.
+// /correlation: ξ_|C|(θ), the decay length of |C| per sector (decay_length.hpp), and ξ_|C|,el.
 void write_magnitude(const Target& t) {
   io::AnalysisWriter& w = t.w;
   const Report& report = t.report;
@@ -191,25 +172,6 @@ void write_magnitude(const Target& t) {
   const std::size_t nk = std::size_t(t.report.grid.angle_bins);
   const auto& res = t.report.results;
   const io::Parameters& per_run = t.per_run;
-  auto magnitude = [&](const char* name, auto value, const char* meaning, const char* units) {
-    w.write(std::string("/correlation/") + name, {n}, column(n, [&](std::size_t i) { return res[i].magnitude.*value; }),
-            meaning, units, per_run);
-  };
-  magnitude("xi_abs", &MagnitudeLength::xi,
-            "decay length of |C(l)| (the xi of Figs 5.2-5.10): sum_c l_c a_c / sum_c a_c over coarse bins c of "
-            "abs_bin_width, a_c = max(|I_c| - abs_noise * dI_c, 0), I_c = int_c C dl exactly from the pair sums, "
-            "dI_c its jackknife error, l_c = int_c l C dl / I_c clamped to the bin (see the group's "
-            "xi_abs_definition)",
-            "length");
-  magnitude("xi_abs_error", &MagnitudeLength::xi_error,
-            "block-jackknife standard error of xi_abs (noise floors fixed at their full-sample values)", "length");
-  magnitude("xi_abs_tail", &MagnitudeLength::tail_share,
-            "share of sum_c l_c a_c (int l|C|) from coarse bins centred beyond abs_tail_from * max_lag", "1");
-  magnitude("xi_abs_tail_error", &MagnitudeLength::tail_share_error, "jackknife standard error of xi_abs_tail", "1");
-  w.write("/correlation/measurable", {n}, int_column(n, [&](std::size_t i) { return res[i].magnitude.measurable; }),
-          "1: xi_abs finite and xi_abs_tail <= abs_max_tail_share; 0: correlations reach the box (xi_abs measures "
-          "the cell, the thesis' 'too large to be measured') or no signal; left out of nu_bc_abs",
-          "1", per_run);
   w.write("/correlation/xi_abs_theta", {n, nk},
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.magnitude.xi_theta; }),
           "xi_abs of the radial profile of C(l, theta) averaged over the sector (angle of the lag modulo pi): a "
@@ -218,27 +180,15 @@ void write_magnitude(const Target& t) {
   w.write("/correlation/xi_abs_theta_error", {n, nk},
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.magnitude.xi_theta_error; }),
           "jackknife standard error of xi_abs_theta", "length", per_run);
-  const auto fit_abs = fit_column(t, &RunResult::fit_abs);
-  fit_abs("a0_abs", &AnisotropyFit::a0,
-          "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean over the "
-          "sectors",
-          "1");
-  fit_abs("a0_abs_error", &AnisotropyFit::a0_error, "standard error of a0_abs", "1");
-  fit_abs("theta0_abs", &AnisotropyFit::theta0, "theta0 of that fit, in [-pi/2, pi/2)", "radian");
-  fit_abs("theta0_abs_error", &AnisotropyFit::theta0_error, "standard error of theta0_abs", "radian");
-  fit_abs("fit_abs_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of that fit", "1");
   w.write("/correlation/xi_abs_el", {}, std::vector<double>{report.xi_abs_el},
           "elastic (dilute) reference length for xi_abs: xi_abs of all reference frames pooled (NaN without "
           "--reference)",
           "length");
   w.write("/correlation/xi_abs_el_error", {}, std::vector<double>{report.xi_abs_el_error},
           "jackknife standard error of xi_abs_el (over all reference blocks)", "length");
-  w.write("/correlation/xi_abs_ratio", {n}, report.xi_abs_ratio, "xi_abs / xi_abs_el", "1", per_run);
-  w.write("/correlation/xi_abs_ratio_error", {n}, report.xi_abs_ratio_error,
-          "standard error of xi_abs / xi_abs_el (errors combined in quadrature)", "1", per_run);
 }
 
-// /correlation: ξ(θ) and ξ_dir(θ) with their eq. 5.3 fits.
+// /correlation: ξ(θ) and ξ_dir(θ) per sector (their eq. 5.3 fits are columns).
 void write_anisotropy(const Target& t) {
   io::AnalysisWriter& w = t.w;
   const std::size_t n = t.n;
@@ -254,15 +204,7 @@ void write_anisotropy(const Target& t) {
           "length/radian", per_run);
   w.write("/correlation/xi_theta_error", {n, nk}, rows(res, &RunResult::xi_theta_error),
           "jackknife standard error of xi_theta", "length/radian", per_run);
-  const auto fit = fit_column(t, &RunResult::fit);
-  fit("a0", &AnisotropyFit::a0, "a0 of eq. 5.3, xi(theta) = xi/(2 pi) (1 - a0 sin 2(theta - theta0)), fitted", "1");
-  fit("a0_error", &AnisotropyFit::a0_error, "standard error of a0 (covariance scaled by max(1, sqrt(chi2/dof)))", "1");
-  fit("theta0", &AnisotropyFit::theta0, "theta0 of eq. 5.3, in [-pi/2, pi/2)", "radian");
-  fit("theta0_error", &AnisotropyFit::theta0_error, "standard error of theta0", "radian");
-  fit("fit_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of the eq. 5.3 fit", "1");
-  w.write("/correlation/fit_weighted", {n}, int_column(n, [&](std::size_t i) { return res[i].fit.weighted; }),
-          "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter", "1", per_run);
-  // ξ_dir(θ), eq. 5.2 per direction (force_correlation.hpp), and its fit.
+  // ξ_dir(θ), eq. 5.2 per direction (force_correlation.hpp).
   w.write("/correlation/xi_theta_direction", {n, nk},
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.direction.xi_theta; }),
           "xi_dir(theta) = int dl l C(l, theta) / int dl C(l, theta), eq. 5.2 per direction, numerator and "
@@ -275,23 +217,6 @@ void write_anisotropy(const Target& t) {
           rows(res, [](const RunResult& r) -> const std::vector<double>& { return r.direction.xi_theta_error; }),
           "jackknife standard error of xi_theta_direction (NaN where a leave-one-block-out value is NaN)", "length",
           per_run);
-  const auto fit_direction = fit_column(t, [](const RunResult& r) -> const AnisotropyFit& { return r.direction.fit; });
-  fit_direction("a0_direction", &AnisotropyFit::a0,
-                "a0 of eq. 5.3's shape fitted to the finite xi_theta_direction = m (1 - a0 sin 2(theta - theta0)), m "
-                "their mean (eq. 5.3 with xi = 2 pi m); NaN with fewer than 3 finite sectors",
-                "1");
-  fit_direction("a0_direction_error", &AnisotropyFit::a0_error,
-                "standard error of a0_direction (covariance scaled by max(1, sqrt(chi2/dof)), or by sqrt(chi2/dof) "
-                "when unweighted)",
-                "1");
-  fit_direction("theta0_direction", &AnisotropyFit::theta0, "theta0 of that fit, in [-pi/2, pi/2)", "radian");
-  fit_direction("theta0_direction_error", &AnisotropyFit::theta0_error, "standard error of theta0_direction", "radian");
-  fit_direction("fit_direction_chi2_dof", &AnisotropyFit::chi2_per_dof, "chi^2 per degree of freedom of that fit", "1");
-  w.write("/correlation/fit_direction_weighted", {n},
-          int_column(n, [&](std::size_t i) { return res[i].direction.fit.weighted; }),
-          "1: that fit weighted by the jackknife errors of the finite xi_theta_direction; 0: unweighted (one of "
-          "those errors not finite and positive, or no fit), errors from the scatter",
-          "1", per_run);
 }
 
 // /correlation: the map of C over lag vectors.
@@ -349,33 +274,7 @@ void write_forces(const Target& t) {
                "P(f) of normal contact forces, counts / (all contacts * bin width) (Figs 5.7, 5.8)");
   distribution("P_bc", &RunResult::binary,
                "P(f_bc) of the binary-collision forces F_bc of eq. 5.4 of the same contacts (Fig. 5.7)");
-  auto force_column = [&](const char* name, auto value, const char* meaning, const char* units) {
-    w.write(std::string("/forces/") + name, {n}, column(n, value), meaning, units, per_run);
-  };
-  force_column(
-      "mean_force", [&](std::size_t i) { return res[i].normal.mean; }, "<F_n> over all contacts", "force");
-  force_column(
-      "mean_force_error", [&](std::size_t i) { return res[i].normal.mean_error; }, "jackknife standard error of <F_n>",
-      "force");
-  force_column(
-      "mean_binary_force", [&](std::size_t i) { return res[i].binary.mean; }, "<F_bc> over all contacts", "force");
-  force_column(
-      "mean_binary_force_error", [&](std::size_t i) { return res[i].binary.mean_error; },
-      "jackknife standard error of <F_bc>", "force");
-  w.write("/forces/peak", {n}, int_column(n, [&](std::size_t i) { return res[i].peak.peak; }),
-          "1: P(f) rises from f = 0 (a peak at f > 0); 0: it is largest at f = 0 (see the group's peak_rule)", "1",
-          per_run);
-  force_column(
-      "peak_confidence", [&](std::size_t i) { return res[i].peak.confidence; },
-      "fraction of bootstrap replicates with the same peak decision (NaN with one block)", "1");
-  force_column(
-      "mode", [&](std::size_t i) { return res[i].peak.mode; }, "f at the maximum of the kernel density estimate", "1");
-  force_column(
-      "mode_error", [&](std::size_t i) { return res[i].peak.mode_error; },
-      "standard deviation of the mode over the bootstrap replicates of the peak decision (NaN with one block)", "1");
-  force_column(
-      "p0_over_pmax", [&](std::size_t i) { return res[i].peak.ratio; },
-      "kernel density estimate at f = 0 over its maximum (1: maximum at 0)", "1");
+  io::TableWriter(w, "/forces", kPerRun).write(res, force_columns());
 }
 
 // /reference: the reference runs (with --reference).
@@ -526,6 +425,117 @@ std::vector<io::RowColumn<Row>> identity_columns() {
           io::real<Row>(io::identity_column("friction"), [](const Row& r) { return r.run.friction; })};
 }
 
+// /correlation's columns of eq. 5.2's lengths, ξ and ξ_length, and their ratios to ξ_el.
+std::vector<io::RowColumn<CorrelationRow>> isotropic_columns() {
+  using Row = CorrelationRow;
+  return {
+      io::real<Row>(
+          {"xi", "length",
+           "correlation length xi, eq. 5.2 taken literally on the signed C: sum w / sum (w/l) over pairs "
+           "with l < max_lag (exact integrals of the sampled C); ill-conditioned in dense flows, where int C "
+           "dl crosses zero (see xi_abs)",
+           "xi_error", "jackknife standard error of xi"},
+          [](const Row& r) { return r.result.xi; }, [](const Row& r) { return r.result.xi_error; }),
+      io::real("xi_ratio", "1", "xi / xi_el", &Row::xi_ratio,
+               "standard error of xi / xi_el (errors of xi and xi_el combined in quadrature)", &Row::xi_ratio_error),
+      // ξ with C read as a density per unit length (force_correlation.hpp, Density::length).
+      io::real<Row>(
+          {"xi_length", "length",
+           "correlation length of eq. 5.2 with C read as a density per unit length, C_L(l) = 2 pi l C(l) "
+           "(the radial pair sum per unit l): int l C_L dl / int C_L dl = sum (w l) / sum w over pairs with "
+           "l < max_lag (exact integrals of the sampled C); xi is the same with C per unit area",
+           "xi_length_error", "jackknife standard error of xi_length"},
+          [](const Row& r) { return r.result.xi_length; }, [](const Row& r) { return r.result.xi_length_error; }),
+      io::real("xi_length_ratio", "1", "xi_length / xi_length_el", &Row::xi_length_ratio,
+               "standard error of xi_length / xi_length_el (errors combined in quadrature)",
+               &Row::xi_length_ratio_error)};
+}
+
+// /correlation's columns of ξ_|C|, the decay length of |C| (decay_length.hpp): its tail share,
+// flag, the eq. 5.3 fit to ξ_|C|(θ) and the ratio to ξ_|C|,el.
+std::vector<io::RowColumn<CorrelationRow>> magnitude_columns() {
+  using Row = CorrelationRow;
+  return {
+      io::real<Row>(
+          {"xi_abs", "length",
+           "decay length of |C(l)| (the xi of Figs 5.2-5.10): sum_c l_c a_c / sum_c a_c over coarse bins c "
+           "of abs_bin_width, a_c = max(|I_c| - abs_noise * dI_c, 0), I_c = int_c C dl exactly from the pair "
+           "sums, dI_c its jackknife error, l_c = int_c l C dl / I_c clamped to the bin (see the group's "
+           "xi_abs_definition)",
+           "xi_abs_error", "block-jackknife standard error of xi_abs (noise floors fixed at their full-sample values)"},
+          [](const Row& r) { return r.result.magnitude.xi; }, [](const Row& r) { return r.result.magnitude.xi_error; }),
+      io::real<Row>(
+          {"xi_abs_tail", "1",
+           "share of sum_c l_c a_c (int l|C|) from coarse bins centred beyond abs_tail_from * max_lag",
+           "xi_abs_tail_error", "jackknife standard error of xi_abs_tail"},
+          [](const Row& r) { return r.result.magnitude.tail_share; },
+          [](const Row& r) { return r.result.magnitude.tail_share_error; }),
+      io::integer<Row>({"measurable", "1",
+                        "1: xi_abs finite and xi_abs_tail <= abs_max_tail_share; 0: correlations reach the box "
+                        "(xi_abs measures the cell, the thesis' 'too large to be measured') or no signal; left out of "
+                        "nu_bc_abs"},
+                       [](const Row& r) { return std::int64_t(r.result.magnitude.measurable); }),
+      io::real<Row>(
+          {"a0_abs", "1",
+           "a0 of eq. 5.3's shape fitted to xi_abs_theta = m (1 - a0 sin 2(theta - theta0)), m its mean "
+           "over the sectors",
+           "a0_abs_error", "standard error of a0_abs"},
+          [](const Row& r) { return r.result.fit_abs.a0; }, [](const Row& r) { return r.result.fit_abs.a0_error; }),
+      io::real<Row>(
+          {"theta0_abs", "radian", "theta0 of that fit, in [-pi/2, pi/2)", "theta0_abs_error",
+           "standard error of theta0_abs"},
+          [](const Row& r) { return r.result.fit_abs.theta0; },
+          [](const Row& r) { return r.result.fit_abs.theta0_error; }),
+      io::real<Row>({"fit_abs_chi2_dof", "1", "chi^2 per degree of freedom of that fit"},
+                    [](const Row& r) { return r.result.fit_abs.chi2_per_dof; }),
+      io::real("xi_abs_ratio", "1", "xi_abs / xi_abs_el", &Row::xi_abs_ratio,
+               "standard error of xi_abs / xi_abs_el (errors combined in quadrature)", &Row::xi_abs_ratio_error)};
+}
+
+// /correlation's columns of the eq. 5.3 fit to ξ(θ).
+std::vector<io::RowColumn<CorrelationRow>> anisotropy_columns() {
+  using Row = CorrelationRow;
+  return {
+      io::real<Row>(
+          {"a0", "1", "a0 of eq. 5.3, xi(theta) = xi/(2 pi) (1 - a0 sin 2(theta - theta0)), fitted", "a0_error",
+           "standard error of a0 (covariance scaled by max(1, sqrt(chi2/dof)))"},
+          [](const Row& r) { return r.result.fit.a0; }, [](const Row& r) { return r.result.fit.a0_error; }),
+      io::real<Row>(
+          {"theta0", "radian", "theta0 of eq. 5.3, in [-pi/2, pi/2)", "theta0_error", "standard error of theta0"},
+          [](const Row& r) { return r.result.fit.theta0; }, [](const Row& r) { return r.result.fit.theta0_error; }),
+      io::real<Row>({"fit_chi2_dof", "1", "chi^2 per degree of freedom of the eq. 5.3 fit"},
+                    [](const Row& r) { return r.result.fit.chi2_per_dof; }),
+      io::integer<Row>({"fit_weighted", "1",
+                        "1: fit weighted by the jackknife errors of xi_theta; 0: unweighted, errors from the scatter"},
+                       [](const Row& r) { return std::int64_t(r.result.fit.weighted); })};
+}
+
+// /correlation's columns of eq. 5.3's shape fitted to ξ_dir(θ), eq. 5.2 per direction.
+std::vector<io::RowColumn<CorrelationRow>> direction_columns() {
+  using Row = CorrelationRow;
+  return {io::real<Row>(
+              {"a0_direction", "1",
+               "a0 of eq. 5.3's shape fitted to the finite xi_theta_direction = m (1 - a0 sin 2(theta - "
+               "theta0)), m their mean (eq. 5.3 with xi = 2 pi m); NaN with fewer than 3 finite sectors",
+               "a0_direction_error",
+               "standard error of a0_direction (covariance scaled by max(1, sqrt(chi2/dof)), or by "
+               "sqrt(chi2/dof) when unweighted)"},
+              [](const Row& r) { return r.result.direction.fit.a0; },
+              [](const Row& r) { return r.result.direction.fit.a0_error; }),
+          io::real<Row>(
+              {"theta0_direction", "radian", "theta0 of that fit, in [-pi/2, pi/2)", "theta0_direction_error",
+               "standard error of theta0_direction"},
+              [](const Row& r) { return r.result.direction.fit.theta0; },
+              [](const Row& r) { return r.result.direction.fit.theta0_error; }),
+          io::real<Row>({"fit_direction_chi2_dof", "1", "chi^2 per degree of freedom of that fit"},
+                        [](const Row& r) { return r.result.direction.fit.chi2_per_dof; }),
+          io::integer<Row>({"fit_direction_weighted", "1",
+                            "1: that fit weighted by the jackknife errors of the finite xi_theta_direction; 0: "
+                            "unweighted (one of those errors not finite and positive, or no fit), errors from the "
+                            "scatter"},
+                           [](const Row& r) { return std::int64_t(r.result.direction.fit.weighted); })};
+}
+
 }  // namespace
 
 const std::vector<io::RowColumn<RunsRow>>& run_columns() {
@@ -567,12 +577,50 @@ const std::vector<io::RowColumn<ReferenceRow>>& reference_columns() {
   return columns;
 }
 
+const std::vector<io::RowColumn<CorrelationRow>>& correlation_columns() {
+  static const std::vector<io::RowColumn<CorrelationRow>> columns = [] {
+    std::vector<io::RowColumn<CorrelationRow>> c = isotropic_columns();
+    for (const auto& part : {magnitude_columns(), anisotropy_columns(), direction_columns()})
+      c.insert(c.end(), part.begin(), part.end());
+    return c;
+  }();
+  return columns;
+}
+
+const std::vector<io::RowColumn<RunResult>>& force_columns() {
+  using Row = RunResult;
+  static const std::vector<io::RowColumn<Row>> columns = {
+      io::real<Row>(
+          {"mean_force", "force", "<F_n> over all contacts", "mean_force_error", "jackknife standard error of <F_n>"},
+          [](const Row& r) { return r.normal.mean; }, [](const Row& r) { return r.normal.mean_error; }),
+      io::real<Row>(
+          {"mean_binary_force", "force", "<F_bc> over all contacts", "mean_binary_force_error",
+           "jackknife standard error of <F_bc>"},
+          [](const Row& r) { return r.binary.mean; }, [](const Row& r) { return r.binary.mean_error; }),
+      io::integer<Row>({"peak", "1",
+                        "1: P(f) rises from f = 0 (a peak at f > 0); 0: it is largest at f = 0 (see the group's "
+                        "peak_rule)"},
+                       [](const Row& r) { return std::int64_t(r.peak.peak); }),
+      io::real<Row>(
+          {"peak_confidence", "1", "fraction of bootstrap replicates with the same peak decision (NaN with one block)"},
+          [](const Row& r) { return r.peak.confidence; }),
+      io::real<Row>(
+          {"mode", "1", "f at the maximum of the kernel density estimate", "mode_error",
+           "standard deviation of the mode over the bootstrap replicates of the peak decision (NaN with "
+           "one block)"},
+          [](const Row& r) { return r.peak.mode; }, [](const Row& r) { return r.peak.mode_error; }),
+      io::real<Row>({"p0_over_pmax", "1", "kernel density estimate at f = 0 over its maximum (1: maximum at 0)"},
+                    [](const Row& r) { return r.peak.ratio; })};
+  return columns;
+}
+
 void write_report(const std::string& path, const Report& report, const io::Parameters& provenance) {
   io::AnalysisWriter w(path);
   w.write_parameters(provenance);
   const Target t{w, report, report.runs.size(), rows_note()};
   write_runs_table(t);
   w.write_attributes("/correlation", correlation_attributes(report));
+  write_correlation_table(t);
   write_isotropic(t);
   write_magnitude(t);
   write_anisotropy(t);

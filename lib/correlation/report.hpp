@@ -55,10 +55,20 @@ struct ReferenceRow {
   double xi = 0, xi_error = 0, xi_length = 0, xi_length_error = 0, xi_abs = 0, xi_abs_error = 0;
 };
 
-// The columns of /runs and /reference, each declared once (docs/file-format.md, gf-correlate
-// table, is checked against them).
+// One row of /correlation's per-run datasets: the run's result and its ratios to the elastic
+// lengths. /forces' per-run datasets read the RunResult itself.
+struct CorrelationRow {
+  const RunResult& result;
+  double xi_ratio = 0, xi_ratio_error = 0, xi_length_ratio = 0, xi_length_ratio_error = 0, xi_abs_ratio = 0,
+         xi_abs_ratio_error = 0;
+};
+
+// The columns of /runs and /reference, and the per-run ([R]) datasets of /correlation and
+// /forces, each declared once (docs/file-format.md, gf-correlate table, is checked against them).
 const std::vector<io::RowColumn<RunsRow>>& run_columns();
 const std::vector<io::RowColumn<ReferenceRow>>& reference_columns();
+const std::vector<io::RowColumn<CorrelationRow>>& correlation_columns();
+const std::vector<io::RowColumn<RunResult>>& force_columns();
 
 // Writes the file at path (the caller's temporary; see OutputFile).
 void write_report(const std::string& path, const Report& report, const io::Parameters& provenance);

@@ -1,7 +1,8 @@
 // The column lists of the per-run analysis tables in docs/file-format.md against the
 // programs' own declarations (io/table_writer.hpp): every declared dataset is documented
-// with its type, units, H5MD unit and meaning, and the docs list no other. The docs keep
-// their tables in name order; the declarations in writing order.
+// with its type, units, H5MD unit and meaning, and the docs list no other (in a group that
+// also holds curves or maps, e.g. gf-correlate's /correlation, no other per-run [R] dataset).
+// The docs keep their tables in name order; the declarations in writing order.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -55,13 +56,14 @@ std::string unquoted(const std::string& cell) {
 }
 
 // The dataset table that follows the line "`<group>`:" in the section "### <section>" of
-// docs/file-format.md, by dataset name.
-std::map<std::string, Documented> documented(const std::string& section, const std::string& group) {
+// docs/file-format.md, by dataset name; with shape (e.g. "[R]"), only its rows of that shape.
+std::map<std::string, Documented> documented(const std::string& section, const std::string& group,
+                                             const std::string& shape = "") {
   std::ifstream in(std::string(GRANFLOW_SOURCE_DIR) + "/docs/file-format.md");
   EXPECT_TRUE(in) << "docs/file-format.md not found under " << GRANFLOW_SOURCE_DIR;
   std::map<std::string, Documented> out;
   std::string line;
-  bool in_section = false, in_group = false;
+  bool in_section = false, in_group = false, in_table = false;
   while (std::getline(in, line)) {
     if (line.rfind("### ", 0) == 0) {
       in_section = line == "### " + section;
@@ -69,9 +71,10 @@ std::map<std::string, Documented> documented(const std::string& section, const s
     } else if (in_section && line == "`" + group + "`:") {
       in_group = true;
     } else if (in_group && line.rfind("| `", 0) == 0) {
+      in_table = true;
       const std::vector<std::string> c = cells(line);
-      if (c.size() == 6) out[unquoted(c[0])] = {c[2], c[3], unquoted(c[4]), c[5]};
-    } else if (in_group && !out.empty() && line.empty()) {
+      if (c.size() == 6 && (shape.empty() || c[1] == shape)) out[unquoted(c[0])] = {c[2], c[3], unquoted(c[4]), c[5]};
+    } else if (in_table && line.empty()) {
       break;
     }
   }
@@ -100,10 +103,13 @@ std::map<std::string, Documented> declared(const std::vector<io::Column>& datase
 }
 
 // Names in reworded: their meaning depends on an option; the docs' may differ (the rest must not).
+// With shape: the group's datasets of that shape (e.g. "[R]", its per-run table) against the
+// declaration; its others (curves, maps, scalars) are not declared columns.
 void expect_documented(const std::string& section, const std::string& group, const std::vector<io::Column>& datasets,
-                       const std::set<std::string>& reworded = {}) {
-  const std::map<std::string, Documented> docs = documented(section, group), code = declared(datasets);
-  ASSERT_FALSE(docs.empty()) << "no table after `" << group << "`: in ### " << section;
+                       const std::set<std::string>& reworded = {}, const std::string& shape = "") {
+  const std::map<std::string, Documented> docs = documented(section, group, shape), code = declared(datasets);
+  ASSERT_FALSE(docs.empty()) << "no table after `" << group << "`: in ### " << section
+                             << (shape.empty() ? "" : " with rows of shape " + shape);
   for (const auto& [name, d] : code) {
     const auto it = docs.find(name);
     if (it == docs.end()) ADD_FAILURE() << section << " " << group << "/" << name << ": declared, not documented";
@@ -140,6 +146,9 @@ TEST(TableColumns, GfKineticAsDocumented) {
 TEST(TableColumns, GfCorrelateAsDocumented) {
   expect_documented("gf-correlate table", "/runs", io::table_datasets(correlation::run_columns()));
   expect_documented("gf-correlate table", "/reference", io::table_datasets(correlation::reference_columns()));
+  expect_documented("gf-correlate table", "/correlation", io::table_datasets(correlation::correlation_columns()), {},
+                    "[R]");
+  expect_documented("gf-correlate table", "/forces", io::table_datasets(correlation::force_columns()), {}, "[R]");
 }
 
 TEST(TableColumns, GfNetworkAsDocumented) {
