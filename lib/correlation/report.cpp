@@ -599,7 +599,7 @@ const std::vector<io::RowColumn<RunResult>>& force_columns() {
           [](const Row& r) { return r.binary.mean; }, [](const Row& r) { return r.binary.mean_error; }),
       io::integer<Row>({"peak", "1",
                         "1: P(f) rises from f = 0 (a peak at f > 0); 0: it is largest at f = 0 (see the group's "
-                        "peak_rule)"},
+                        "peak_rule); -1: no contact force in the window"},
                        [](const Row& r) { return std::int64_t(r.peak.peak); }),
       io::real<Row>(
           {"peak_confidence", "1", "fraction of bootstrap replicates with the same peak decision (NaN with one block)"},
