@@ -608,52 +608,54 @@ def main():
 
 CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "observable", "label", "class",
                "default_value", "default_error", "limit", "limit_error", "exponent", "exponent_error")
-
-
-def write_classes_csv(path, classes, observables, default_step, activation):
-    """One line per (point, observable) classified: the columns of CSV_COLUMNS, after a comment
-    line naming the default step and the activation (read by the report, pipelines/report, --step-classes)."""
-    labels = {o[0]: o[1] for o in observables}
-    fh = io.StringIO()
-    fh.write(f"# convergence.py classes at the default step {default_step:g}, activation {activation}\n")
-    w = csv.writer(fh, lineterminator="\n")
-    w.writerow(CSV_COLUMNS)
-    for key in sorted(classes):
-        for obs in sorted(classes[key]):
-            c = classes[key][obs]
-            w.writerow([f"{key[1]:.3f}", f"{key[2]:.2f}", f"{key[3]:.2f}", key[0], obs, labels.get(obs, obs),
-                        c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])])
-    outputs.write_text(path, fh.getvalue())
-
-
 SERIES_CSV_COLUMNS = ("packing_fraction", "restitution", "friction", "grains", "tolerance", "step", "observable",
                       "label", "unit", "value", "error")
 
 
+def write_csv(path, what, columns, rows, default_step, activation):
+    """The study's CSV files: a comment line naming what they hold, the default step and the
+    activation (the report and python.test_convergence read it), the header, then the rows."""
+    fh = io.StringIO()
+    fh.write(f"# convergence.py {what} at the default step {default_step:g}, activation {activation}\n")
+    w = csv.writer(fh, lineterminator="\n")
+    w.writerow(columns)
+    w.writerows(rows)
+    outputs.write_text(path, fh.getvalue())
+
+
+def point_cells(grains, nu, e, mu):
+    """A point's cells as both CSV files write them: ν, e, μ, N."""
+    return [f"{nu:.3f}", f"{e:.2f}", f"{mu:.2f}", grains]
+
+
+def write_classes_csv(path, classes, observables, default_step, activation):
+    """One line per (point, observable) classified: the columns of CSV_COLUMNS (read by the report,
+    pipelines/report, --step-classes)."""
+    labels = {o[0]: o[1] for o in observables}
+    rows = ([*point_cells(*key[:4]), obs, labels.get(obs, obs), c["class"], *(f"{c[k]:.6g}" for k in CSV_COLUMNS[7:])]
+            for key in sorted(classes) for obs, c in sorted(classes[key].items()))
+    write_csv(path, "classes", CSV_COLUMNS, rows, default_step, activation)
+
+
 def write_series_csv(path, series, observables, units, default_step, activation):
     """One line per (point, N, tolerance, step, observable): the columns of SERIES_CSV_COLUMNS (value and
-    error in the row's unit, empty when not finite), after a comment line naming the default step and
-    the activation; points in order, steps from the coarsest, observables in the tables' order."""
-    order = [o[0] for o in observables]
+    error in the row's unit, empty when not finite); points in order, steps from the coarsest,
+    observables in the tables' order."""
     labels = {o[0]: o[1] for o in observables}
-    fh = io.StringIO()
-    fh.write(f"# convergence.py series at the default step {default_step:g}, activation {activation}\n")
-    w = csv.writer(fh, lineterminator="\n")
-    w.writerow(SERIES_CSV_COLUMNS)
 
     def number(x):
         return f"{x:.6g}" if np.isfinite(x) else ""
 
-    for key in sorted(series, key=lambda k: (k[1], k[2], k[3], k[0], k[4])):
-        grains, nu, e, mu, tol = key
-        for step in sorted(series[key], reverse=True):
-            values = series[key][step]
-            for obs in (o for o in order if o in values):
-                value, error = values[obs]
-                w.writerow([f"{nu:.3f}", f"{e:.2f}", f"{mu:.2f}", grains, f"{tol:g}", f"{step:g}", obs,
-                            labels.get(obs, obs), units[obs], number(value), number(error)])
-    outputs.write_text(path, fh.getvalue())
+    def rows():
+        for key in sorted(series, key=lambda k: (k[1], k[2], k[3], k[0], k[4])):
+            for step in sorted(series[key], reverse=True):
+                values = series[key][step]
+                for obs in (o[0] for o in observables if o[0] in values):
+                    value, error = values[obs]
+                    yield [*point_cells(*key[:4]), f"{key[4]:g}", f"{step:g}", obs, labels[obs], units[obs],
+                           number(value), number(error)]
 
+    write_csv(path, "series", SERIES_CSV_COLUMNS, rows(), default_step, activation)
 
 if __name__ == "__main__":
     sys.exit(main())
