@@ -12,7 +12,8 @@ import unittest
 import numpy as np
 
 import study_make  # a sibling module: the step studies' make runner
-from analysis import tolerance_study
+import synthetic
+from analysis import sliding_share, tolerance_study
 
 ROOT = study_make.ROOT
 
@@ -70,6 +71,48 @@ class VerdictTest(unittest.TestCase):
                 self.assertEqual(res.returncode, 2, res.stderr)
                 self.assertEqual(len(res.stderr.strip().splitlines()), 1, res.stderr)
                 self.assertEqual(os.listdir(d), [])
+
+
+class SlidingShareTest(unittest.TestCase):
+    """sliding_share.analyse on a constructed μ = 0.4 trajectory: per frame 9 force-bearing contacts,
+    3 on the Coulomb limit (one of them F_t = −μF_n), one at (1 − 10⁻³)μF_n (sticking), one F_n = 0;
+    the frames before the window hold only sliding contacts, and must not count."""
+
+    def write(self, path):
+        import h5py
+
+        synthetic.write_run(path, np.full(4000, 1.0), np.full(4000, 0.1), np.full(4000, 0.3), np.full(4000, 1.0),
+                            friction=0.4, frame_every=50)
+        fn = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 0.0])
+        ft = 0.4 * fn * np.array([1, -1, 1, 1 - 1e-3, 0.5, 0.1, 0, -0.3, 0.9, 0])
+        with h5py.File(path, "a") as f:
+            steps = f["particles/grains/position/step"][()]
+            normal, tangential = [], []
+            for step in steps:
+                before = step <= 1000  # steps 1..1000 come before the window below (strain >= 1.0005: rows from 1001)
+                normal.append(fn)
+                tangential.append(0.4 * fn if before else ft)
+            c = f.create_group("contacts")
+            c["frame_offset"] = np.arange(len(steps) + 1, dtype=np.int64) * len(fn)
+            c["normal_force"] = np.concatenate(normal)
+            c["tangential_force"] = np.concatenate(tangential)
+        return len(steps[steps > 1000])
+
+    def test_share_over_the_window(self):
+        with tempfile.TemporaryDirectory() as d:
+            frames = self.write(f"{d}/run.h5")
+            share, error, sliding, bearing, counted, mu = sliding_share.analyse(f"{d}/run.h5", 1.0005, 1e-6)
+            self.assertEqual((sliding, bearing, counted, mu), (3.0, 9.0, frames, 0.4))
+            self.assertAlmostEqual(share, 1 / 3, places=15)
+            self.assertEqual(error, 0.0)
+            # A margin of 10⁻² counts the contact at (1 − 10⁻³)μF_n too.
+            self.assertAlmostEqual(sliding_share.analyse(f"{d}/run.h5", 1.0005, 1e-2)[0], 4 / 9, places=15)
+
+    def test_frictionless_run_is_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            synthetic.write_run(f"{d}/run.h5", *(np.full(4000, 1.0),) * 4, friction=0.0)
+            with self.assertRaisesRegex(ValueError, "not a gf-shear trajectory with contacts|no Coulomb limit"):
+                sliding_share.analyse(f"{d}/run.h5", 1.0, 1e-6)
 
 
 GRID = """FT_GRAINS            := 64
