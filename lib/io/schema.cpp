@@ -74,6 +74,8 @@ const std::string& observable_quantity(const std::string& name) {
       {"solver_iterations", "1"},
       {"solver_residual", "length"},
       {"max_overlap", "length"},
+      {"unconverged_steps", "1"},
+      {"unconverged_residual", "length"},
       {"collisions", "1"},
       {"collision_velocity_product", "velocity²"},
       {"dissipated_energy", "mass·velocity²"},

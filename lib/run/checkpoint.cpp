@@ -27,6 +27,8 @@ void write_checkpoint(const std::string& path, const Engine& engine, const RunSt
     info.set("iterations", stats.iterations);
     info.set("contact_updates", stats.contact_updates);
     info.set("max_residual", stats.max_residual);
+    info.set("row_unconverged_steps", stats.row_unconverged_steps);
+    info.set("row_unconverged_residual", stats.row_unconverged_residual);
     info.set("wall_seconds", stats.wall_seconds);
     info.set("signature", signature);
     const std::string partial = output.empty() ? "" : own_temporary(output);
@@ -67,6 +69,12 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.stats.iterations = info.get_int("iterations");
   c.stats.contact_updates = info.get_int("contact_updates");
   c.stats.max_residual = info.get_double("max_residual");
+  if (!info.has("row_unconverged_steps") || !info.has("row_unconverged_residual"))
+    throw UsageError("checkpoint '" + path +
+                     "' holds no count of unconverged steps since the last observable row: it was written by an "
+                     "older version; run without --resume to start over");
+  c.stats.row_unconverged_steps = info.get_int("row_unconverged_steps");
+  c.stats.row_unconverged_residual = info.get_double("row_unconverged_residual");
   c.stats.wall_seconds = info.get_double("wall_seconds");
   c.signature = info.get_string("signature");
   if (info.has("partial_inode")) {

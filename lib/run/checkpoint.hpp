@@ -20,6 +20,10 @@ struct RunStats {
   std::int64_t iterations = 0;       // Gauss–Seidel sweeps, summed over steps
   std::int64_t contact_updates = 0;  // local contact solves, summed over steps
   double max_residual = 0;           // largest final residual of any step (a length)
+  // Steps at the sweep cap since the last observable row, and the largest final residual
+  // among them (0 if none): the row's unconverged_steps and unconverged_residual.
+  std::int64_t row_unconverged_steps = 0;
+  double row_unconverged_residual = 0;
   double wall_seconds = 0;           // of all invocations of the run (resumes)
 };
 

@@ -1,5 +1,6 @@
 #include "run/driver.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -12,7 +13,7 @@ namespace granflow {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-void record_solver(const Engine& engine, io::TrajectoryWriter& writer) {
+void record_solver(const Engine& engine, io::TrajectoryWriter& writer, RunStats& stats) {
   const StepReport& r = engine.last_report();
   const std::int64_t step = engine.step_count();
   const double time = engine.time();
@@ -20,6 +21,10 @@ void record_solver(const Engine& engine, io::TrajectoryWriter& writer) {
   writer.append_observable("solver_iterations", step, time, double(r.iterations));
   writer.append_observable("solver_residual", step, time, r.residual);
   writer.append_observable("max_overlap", step, time, r.max_overlap);
+  writer.append_observable("unconverged_steps", step, time, double(stats.row_unconverged_steps));
+  writer.append_observable("unconverged_residual", step, time, stats.row_unconverged_residual);
+  stats.row_unconverged_steps = 0;
+  stats.row_unconverged_residual = 0;
 }
 }  // namespace
 
@@ -42,7 +47,11 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     stats.iterations += r.iterations;
     stats.contact_updates += r.contact_updates;
     stats.max_residual = std::max(stats.max_residual, r.residual);
-    if (!r.converged) ++stats.unconverged_steps;
+    if (!r.converged) {
+      ++stats.unconverged_steps;
+      ++stats.row_unconverged_steps;
+      stats.row_unconverged_residual = std::max(stats.row_unconverged_residual, r.residual);
+    }
     stats.region_solves += r.region_solves;
     const std::int64_t n = engine.step_count();
     // Checked after every step, not only after unconverged ones: a resume with a lower
@@ -58,7 +67,7 @@ RunStats run_steps(Engine& engine, io::TrajectoryWriter& writer, const RunPlan& 
     }
     if (plan.after_step) plan.after_step(engine);
     if (n % plan.observe_every == 0) {
-      record_solver(engine, writer);
+      record_solver(engine, writer, stats);
       observe(engine, writer);
     }
     if (n % plan.frame_every == 0 || n == plan.total_steps) {

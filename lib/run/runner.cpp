@@ -326,8 +326,11 @@ void finish_run(const CommandLine& cli, io::TrajectoryWriter& writer, OutputFile
   const char* program = cli.program().c_str();
   const long long steps = plan.total_steps;
   if (stats.unconverged_steps > 0)
-    std::fprintf(stderr, "%s: warning: %lld of %lld steps did not converge (largest residual %.2e)\n", program,
-                 (long long)stats.unconverged_steps, steps, stats.max_residual);
+    std::fprintf(stderr,
+                 "%s: warning: %lld of %lld steps did not converge (largest residual %.2e, %.2g times the "
+                 "tolerance); each kept its last iterate\n",
+                 program, (long long)stats.unconverged_steps, steps, stats.max_residual,
+                 stats.max_residual / engine.settings().tolerance);
   if (!plan.quiet)
     // The engine's heap per grain (grain state, pair list, solver, records) at the end of the
     // run: the figure docs/performance.md holds against its 1 KB target.

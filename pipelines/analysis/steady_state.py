@@ -160,7 +160,7 @@ QUANTITIES = {
 }
 DIAGNOSTICS = {
     "solver_iterations_mean": ("mean solver iterations per step", "1"),
-    "solver_residual_max": ("largest solver residual", "L T-1"),
+    "solver_residual_max": ("largest solver residual (velocity × dt)", "L"),
     "max_overlap_max": ("largest overlap", "L"),
 }
 

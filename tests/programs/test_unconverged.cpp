@@ -5,7 +5,9 @@
 
 #include <csignal>
 #include <filesystem>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "io/trajectory.hpp"
 #include "programs/run_tool.hpp"
@@ -75,6 +77,52 @@ TEST(Unconverged, TheLimitIsAFractionOfTheRunsSteps) {
                                           std::to_string(share - 0.5 / double(steps)));
   expect_stopped(outside, dir);
   EXPECT_NE(outside.err.find(std::to_string(unconverged) + " of 200 steps"), std::string::npos) << outside.err;
+}
+
+// /observables counts the unconverged steps since the previous row and their largest residual:
+// at every --observe-every the rows add up to /run's count and their largest residual is
+// /run's, and the rows of a run observed every 7 steps are sums and maxima of blocks of 7 rows
+// of the same run observed every step (the same trajectory).
+TEST(Unconverged, ObservablesCountThemSinceThePreviousRow) {
+  ScratchDir dir("unconverged_rows");
+  const std::string args = "-i " + medium() + " --rate 0.01 --steps 210 --max-iterations 1 --max-unconverged 1 -q";
+  ASSERT_EQ(run_tool("gf-shear", args + " -o " + (dir / "one.h5")).exit_code, 0);
+  ASSERT_EQ(run_tool("gf-shear", args + " -o " + (dir / "seven.h5") + " --observe-every 7").exit_code, 0);
+  const io::TrajectoryReader one(dir / "one.h5"), seven(dir / "seven.h5");
+  const std::vector<double> count1 = one.observable_scalar("unconverged_steps"),
+                            residual1 = one.observable_scalar("unconverged_residual"),
+                            solver1 = one.observable_scalar("solver_residual"),
+                            count7 = seven.observable_scalar("unconverged_steps"),
+                            residual7 = seven.observable_scalar("unconverged_residual");
+  ASSERT_EQ(count1.size(), 210u);
+  ASSERT_EQ(count7.size(), 30u);
+  for (const io::TrajectoryReader* f : {&one, &seven}) {
+    const io::Parameters run = f->attributes("/run");
+    const std::vector<double> c = f->observable_scalar("unconverged_steps"), r = f->observable_scalar("unconverged_residual");
+    double total = 0, largest = 0;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      total += c[k];
+      largest = std::max(largest, r[k]);
+      EXPECT_EQ(c[k] > 0, r[k] > 0) << k;
+    }
+    ASSERT_GT(run.get_int("unconverged_steps"), 20);
+    EXPECT_EQ(total, double(run.get_int("unconverged_steps")));
+    EXPECT_EQ(largest, run.get_double("max_residual"));
+  }
+  for (std::size_t k = 0; k < 210; ++k) {
+    // Observed every step, a row's residual is its step's when that step is at the cap.
+    EXPECT_EQ(residual1[k], count1[k] > 0 ? solver1[k] : 0.0) << k;
+    EXPECT_TRUE(count1[k] == 0 || solver1[k] >= 1e-10) << k;
+  }
+  for (std::size_t b = 0; b < 30; ++b) {
+    double c = 0, r = 0;
+    for (std::size_t k = 7 * b; k < 7 * b + 7; ++k) {
+      c += count1[k];
+      r = std::max(r, residual1[k]);
+    }
+    EXPECT_EQ(count7[b], c) << b;
+    EXPECT_EQ(residual7[b], r) << b;
+  }
 }
 
 TEST(Unconverged, InclineStopsBeyondTheLimitToo) {

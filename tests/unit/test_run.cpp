@@ -102,6 +102,8 @@ TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
   stats.iterations = 123456789012;
   stats.contact_updates = 987654321098;
   stats.max_residual = 1.25e-11;
+  stats.row_unconverged_steps = 2;
+  stats.row_unconverged_residual = 3.5e-9;
   stats.wall_seconds = 3.75;
   const std::string signature = "friction=0.4;output=x.h5;rate=0.5;";
   const std::string path = dir / "run.checkpoint";
@@ -120,6 +122,8 @@ TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
   EXPECT_EQ(c.stats.iterations, stats.iterations);
   EXPECT_EQ(c.stats.contact_updates, stats.contact_updates);
   EXPECT_EQ(c.stats.max_residual, stats.max_residual);
+  EXPECT_EQ(c.stats.row_unconverged_steps, stats.row_unconverged_steps);
+  EXPECT_EQ(c.stats.row_unconverged_residual, stats.row_unconverged_residual);
   EXPECT_EQ(c.stats.wall_seconds, stats.wall_seconds);
   EXPECT_EQ(c.frame.step, 40);
   EXPECT_EQ(c.frame.time, engine.time());
@@ -259,7 +263,8 @@ TEST(RunResume, InterruptedAndResumedEqualsUninterrupted) {
     expect_same_grains(a, b);
     expect_same_contacts(a.contacts, b.contacts);
   }
-  for (const char* name : {"height", "contacts", "solver_iterations", "solver_residual", "max_overlap"}) {
+  for (const char* name : {"height", "contacts", "solver_iterations", "solver_residual", "max_overlap",
+                           "unconverged_steps", "unconverged_residual"}) {
     EXPECT_EQ(ref.observable_step(name), cut.observable_step(name)) << name;
     EXPECT_EQ(ref.observable_scalar(name), cut.observable_scalar(name)) << name;
   }
