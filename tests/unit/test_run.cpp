@@ -5,6 +5,7 @@
 // uninterrupted output. The programs' own resume (signals, real processes) is tested in
 // tests/programs.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -137,6 +138,21 @@ TEST(RunCheckpoint, RoundTripKeepsEveryFieldAndTheTrajectory) {
   EXPECT_EQ(c.grains.fixed, props.fixed);
   EXPECT_EQ(io::TrajectoryReader(path).attributes("/extra").get_int("answer"), 42);
   EXPECT_EQ(io::TrajectoryReader(path).lees_edwards_rate(), 0.5);
+
+  // A checkpoint of an older version, without the unconverged steps since the last row, is
+  // refused rather than resumed with a wrong count.
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Adelete_by_name(file, "/checkpoint", "row_unconverged_steps", H5P_DEFAULT), 0);
+    H5Fclose(file);
+    try {
+      read_checkpoint(path);
+      ADD_FAILURE() << "an older checkpoint was read";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("older version"), std::string::npos) << e.what();
+    }
+  }
 
   Engine resumed(grains_of(c.frame, c.grains), c.frame.box, 0.5, kMaterial, SolverSettings{}, 1e-3);
   resumed.restore(c.step, memory_of(c.frame.contacts));
