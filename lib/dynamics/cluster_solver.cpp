@@ -177,8 +177,8 @@ int ClusterSolver::solve(ContactRows& contacts, const Tiling& tiling, const std:
 }
 
 // The solve of cluster k (see solve()). Returns false when its factor would be too
-// large to pay off (nothing changed) or its result was undone (impulses restored exactly,
-// velocities up to round-off).
+// large to pay off (nothing changed) or its result was undone (impulses and velocities
+// restored exactly).
 bool ClusterSolver::solve_cluster(int k, Scratch& w, int threads) {
   const int* members = cluster_rows_.data() + cluster_start_[k];
   const int m = cluster_start_[k + 1] - cluster_start_[k];
@@ -255,14 +255,21 @@ bool ClusterSolver::apply_normal_solution(Scratch& w, int threads) {
     r.pn = pn;
     row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
   };
+  save_bodies(w);
   for (int u = 0; u < m; ++u) {
     const double pn = rows_[w.order[u]].pn, solved = positive_part(pn + w.rhs[u]);
     w.rhs[u] = pn;  // kept for an undo
     set_normal_impulse(w.order[u], solved);
   }
   const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
-  if (!accepted)
-    for (int u = m - 1; u >= 0; --u) set_normal_impulse(w.order[u], w.rhs[u]);
+  if (!accepted) {
+    for (int u = 0; u < m; ++u) {
+      const int c = w.order[u];
+      rows_[c].pn = w.rhs[u];
+      row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(w.rhs[u]) * kBearing);
+    }
+    restore_bodies(w);
+  }
   return accepted;
 }
 
@@ -282,6 +289,7 @@ bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
     row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(pn) * kBearing);
   };
   w.old.resize(2 * std::size_t(m));  // kept for an undo
+  save_bodies(w);
   for (int u = 0; u < m; ++u) {
     const int c = w.order[u];
     const double pn = rows_[c].pn, pt = tangents_[c].pt;
@@ -294,8 +302,15 @@ bool ClusterSolver::apply_frictional_solution(Scratch& w, int threads) {
     set_impulse(c, solved_pn, solved_pt);
   }
   const bool accepted = cluster_residual(w, threads) <= kClusterSolveGrowth * before;  // false for NaN too
-  if (!accepted)
-    for (int u = m - 1; u >= 0; --u) set_impulse(w.order[u], w.old[2 * u], w.old[2 * u + 1]);
+  if (!accepted) {
+    for (int u = 0; u < m; ++u) {
+      const int c = w.order[u];
+      rows_[c].pn = w.old[2 * u];
+      tangents_[c].pt = w.old[2 * u + 1];
+      row_flags_[c] = std::uint8_t((row_flags_[c] & kHot) | bearing(w.old[2 * u]) * kBearing);
+    }
+    restore_bodies(w);
+  }
   return accepted;
 }
 
@@ -454,6 +469,39 @@ void ClusterSolver::step_along_self_stress(Scratch& w) {
     if (end.state == kOpened) x[w.first[end.row]] = -rows_[w.order[end.row]].pn;
     else w.facet[end.row] = end.state;
   }
+}
+
+// An undone solve restores the impulses and the velocities exactly. Undoing by applying the
+// opposite impulses would leave round-off of the solve's impulses in the velocities, and a
+// near-singular frictional cluster's solve can be 10¹³ times the step's impulses: a kick to
+// every grain of the cluster that breaks momentum conservation. Only mobile bodies are saved
+// and restored, each once: a fixed one may be shared with a cluster another thread is solving.
+void ClusterSolver::save_bodies(Scratch& w) const {
+  w.saved.clear();
+  w.saved_index.clear();
+  const int m = int(w.order.size());
+  for (int u = 0; u < m; ++u) {
+    const int c = w.order[u];
+    const Row& r = rows_[c];
+    for (int side = 0; side < 2; ++side) {
+      const int b = row_bodies_[c][side];  // compact, −1 for a fixed body
+      if (b < 0) continue;
+      // Once per body: at the first of its rows in the cluster's numbering.
+      bool first = true;
+      for (int p = body_start_[b]; p < body_start_[b + 1] && first; ++p) {
+        const int other = unknown_[body_rows_[p]];
+        first = other < 0 || other >= u;
+      }
+      if (!first) continue;
+      const int body = side == 0 ? r.i : r.j;
+      w.saved.push_back(bodies_[body]);
+      w.saved_index.push_back(body);
+    }
+  }
+}
+
+void ClusterSolver::restore_bodies(const Scratch& w) {
+  for (std::size_t k = 0; k < w.saved.size(); ++k) bodies_[w.saved_index[k]] = w.saved[k];
 }
 
 // Adds the normal impulse dpn of row r to its bodies' velocities. Fixed bodies (shared
@@ -693,7 +741,7 @@ std::size_t ClusterSolver::bytes() const {
   std::size_t scratch = heap_bytes(scratch_);
   for (const Scratch& w : scratch_)
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
-               heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
+               heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) + heap_bytes(w.saved) + heap_bytes(w.saved_index) +
                heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.change) +
                heap_bytes(w.facet) + heap_bytes(w.stepped) + heap_bytes(w.pinned) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +

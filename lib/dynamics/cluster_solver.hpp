@@ -56,6 +56,8 @@ class ClusterSolver {
     std::vector<int> order, peel, start, row, first, stepped, pinned;
     std::vector<double> value, rhs, lower, old, b, stress, left, change;
     std::vector<std::int8_t> facet;
+    std::vector<Body> saved;       // the cluster's mobile bodies before a solve is applied
+    std::vector<int> saved_index;  // and their indices
     SparseLdl ldl;
   };
   bool solve_cluster(int k, Scratch& w, int threads);
@@ -68,6 +70,8 @@ class ClusterSolver {
   double cluster_residual(const Scratch& w, int threads) const;
   void apply_normal_impulse(const Row& r, double dpn);
   void apply_impulse(const Row& r, double dpn, double dpt);
+  void save_bodies(Scratch& w) const;
+  void restore_bodies(const Scratch& w);
 
   // The rows, bodies and flags of the pass under way (see solve()).
   Row* rows_ = nullptr;

@@ -157,6 +157,43 @@ TEST(Solver, PairsBeyondTheAlertDistanceNeverBind) {
   }
 }
 
+// Contact impulses are equal and opposite, so every step keeps the total momentum, also one
+// that stalls near frictional jamming and ends at the sweep cap: there exact cluster passes
+// are tried and undone, and an undo must restore the velocities it changed (a near-singular
+// pass can be 10¹³ times the step's impulses, whose round-off, left behind, kicked the grains).
+// Lees–Edwards crossings change v_x only, so Σ m v_y is conserved to round-off.
+TEST(Solver, StalledFrictionalStepsConserveMomentum) {
+  test::Packing p = test::random_packing(100, 0.82, 5);
+  const double rate = 1.0;
+  add_affine_flow(p.state, p.box, rate);
+  SolverSettings settings;
+  settings.max_iterations = 1000;
+  Engine engine(p.state, p.box, rate, Material{0.0, 0.0, 0.4}, settings, 1e-3 / rate);
+  int unconverged = 0;
+  double worst = 0;
+  for (int k = 0; k < 60; ++k) {
+    auto momentum = [&](double& scale) {
+      const GrainState& s = engine.state();
+      double sum = 0;
+      scale = 0;
+      for (std::size_t g = 0; g < s.size(); ++g) {
+        sum += s.mass[g] * s.velocity[g].y();
+        scale += s.mass[g] * std::fabs(s.velocity[g].y());
+      }
+      return sum;
+    };
+    double scale = 0;
+    const double before = momentum(scale);
+    unconverged += !engine.step().converged;
+    const double after = momentum(scale);
+    worst = std::max(worst, std::fabs(after - before) / scale);
+  }
+  std::cout << "StalledFrictionalSteps: " << unconverged << " of 60 steps at the cap, largest momentum change "
+            << worst << " of Σ m|v_y|\n";
+  EXPECT_GE(unconverged, 10) << "the run does not stall: it tests nothing";
+  EXPECT_LT(worst, 1e-12);
+}
+
 // The recorded contacts are every impulse of the step: each grain's change of momentum (and,
 // with friction, of angular momentum) is the sum of its recorded forces × dt, to round-off.
 // A contact left out of the records, or a record with no impulse behind it, breaks this for
