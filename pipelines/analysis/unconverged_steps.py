@@ -19,7 +19,10 @@ capped steps whose two neighbouring steps converged:
       capped one whose k-1, k+1 converged too (the same episodes of the flow);
       spike_ordinary_p10/_p50/_p90: the same over all such converged steps of the window;
       drop_effect: relative change of the window's mean of x when the capped steps are left out,
-      (mean without - mean with)/mean with.
+      (mean without - mean with)/mean with;
+      spike_effect: what the isolated capped steps' departures from their neighbours add to the
+      window's mean, sum over them of (x_k - (x_(k-1) + x_(k+1))/2) / (rows · mean): a bound on
+      what an artefact of the last iterate does to the average.
 An artefact of the last iterate would show as spikes at the capped steps beyond those of the
 converged steps nearby; a difference from the run's mean that the converged neighbours share is
 a property of the states where the solver stalls, not of the policy.
@@ -125,6 +128,8 @@ def analyse(path, from_strain):
                 **spikes("spike_nearby", x, nearby),
                 **spikes("spike_ordinary", x, ordinary),
                 "drop_effect": (mean_without - mean_with) / mean_with,
+                "spike_effect": float(np.sum(x[isolated] - (x[isolated - 1] + x[isolated + 1]) / 2))
+                / (float(window.sum()) * mean_with),
             }
         )
     return rows
@@ -148,6 +153,7 @@ COLUMNS = (
     "spike_ordinary_p50",
     "spike_ordinary_p90",
     "drop_effect",
+    "spike_effect",
 )
 
 

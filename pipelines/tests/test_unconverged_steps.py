@@ -68,6 +68,10 @@ class ConstructedTest(unittest.TestCase):
         # Window of 2001 rows, sum 20020; without the 4 capped steps, 10.
         self.assertAlmostEqual(p["drop_effect"], -10 / 20020)
         self.assertAlmostEqual(t["drop_effect"], 0.0)
+        # The spike of 10 at step 2000 over a window sum of 20020; s/p: -0.05 over 2000·0.1 + 0.05.
+        self.assertAlmostEqual(p["spike_effect"], 10 / 20020)
+        self.assertAlmostEqual(sp["spike_effect"], -0.05 / 200.05)
+        self.assertAlmostEqual(t["spike_effect"], 0.0)
 
     def test_the_programs_count_first(self):
         """With /observables/unconverged_steps (gf-shear since 2026-12-06) the capped steps are the
