@@ -741,9 +741,10 @@ std::size_t ClusterSolver::bytes() const {
   std::size_t scratch = heap_bytes(scratch_);
   for (const Scratch& w : scratch_)
     scratch += heap_bytes(w.order) + heap_bytes(w.peel) + heap_bytes(w.start) + heap_bytes(w.row) +
-               heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) + heap_bytes(w.saved) + heap_bytes(w.saved_index) +
-               heap_bytes(w.b) + heap_bytes(w.stress) + heap_bytes(w.left) + heap_bytes(w.change) +
-               heap_bytes(w.facet) + heap_bytes(w.stepped) + heap_bytes(w.pinned) + w.ldl.allocated_bytes();
+               heap_bytes(w.value) + heap_bytes(w.rhs) + heap_bytes(w.first) + heap_bytes(w.lower) + heap_bytes(w.old) +
+               heap_bytes(w.saved) + heap_bytes(w.saved_index) + heap_bytes(w.b) + heap_bytes(w.stress) +
+               heap_bytes(w.left) + heap_bytes(w.change) + heap_bytes(w.facet) + heap_bytes(w.stepped) +
+               heap_bytes(w.pinned) + w.ldl.allocated_bytes();
   return scratch + heap_bytes(active_) + heap_bytes(large_) + heap_bytes(cluster_order_) + heap_bytes(chunk_start_) +
          heap_bytes(cluster_) + heap_bytes(cluster_id_) + heap_bytes(cluster_start_) + heap_bytes(cluster_rows_) +
          heap_bytes(body_start_) + heap_bytes(body_rows_) + heap_bytes(degree_) + heap_bytes(unknown_);

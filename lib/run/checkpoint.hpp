@@ -24,7 +24,7 @@ struct RunStats {
   // among them (0 if none): the row's unconverged_steps and unconverged_residual.
   std::int64_t row_unconverged_steps = 0;
   double row_unconverged_residual = 0;
-  double wall_seconds = 0;           // of all invocations of the run (resumes)
+  double wall_seconds = 0;  // of all invocations of the run (resumes)
 };
 
 struct Checkpoint {

@@ -188,8 +188,8 @@ TEST(Solver, StalledFrictionalStepsConserveMomentum) {
     const double after = momentum(scale);
     worst = std::max(worst, std::fabs(after - before) / scale);
   }
-  std::cout << "StalledFrictionalSteps: " << unconverged << " of 60 steps at the cap, largest momentum change "
-            << worst << " of Σ m|v_y|\n";
+  std::cout << "StalledFrictionalSteps: " << unconverged << " of 60 steps at the cap, largest momentum change " << worst
+            << " of Σ m|v_y|\n";
   EXPECT_GE(unconverged, 10) << "the run does not stall: it tests nothing";
   EXPECT_LT(worst, 1e-12);
 }
@@ -418,8 +418,7 @@ TEST(Solver, SettledRowsSkippedWithFriction) {
   for (std::size_t i = 0; i < skip.state().size(); ++i)
     dv = std::max(dv, (skip.state().velocity[i] - every.state().velocity[i]).norm());
   std::cout << "Solver: one step, " << rs.iterations << " and " << re.iterations << " sweeps, " << rs.contact_updates
-            << " and " << re.contact_updates << " local solves, largest velocity difference " << dv / upsilon
-            << " Υ\n";
+            << " and " << re.contact_updates << " local solves, largest velocity difference " << dv / upsilon << " Υ\n";
   EXPECT_LT(dv, 100 * upsilon);
   // Over 20 steps each.
   std::int64_t updates_skip = 0, updates_every = 0, sweeps_skip = 0, sweeps_every = 0;

@@ -3,9 +3,9 @@
 // partial file or checkpoint; within it they finish (exit 0) with a warning.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
-#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -98,7 +98,8 @@ TEST(Unconverged, ObservablesCountThemSinceThePreviousRow) {
   ASSERT_EQ(count7.size(), 30u);
   for (const io::TrajectoryReader* f : {&one, &seven}) {
     const io::Parameters run = f->attributes("/run");
-    const std::vector<double> c = f->observable_scalar("unconverged_steps"), r = f->observable_scalar("unconverged_residual");
+    const std::vector<double> c = f->observable_scalar("unconverged_steps"),
+                              r = f->observable_scalar("unconverged_residual");
     double total = 0, largest = 0;
     for (std::size_t k = 0; k < c.size(); ++k) {
       total += c[k];
