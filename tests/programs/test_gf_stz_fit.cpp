@@ -315,7 +315,8 @@ TEST(GfStzFit, FitsTheDenseRunsOfTheGivenRestitutionPerFriction) {
   EXPECT_EQ(got.zeta, want.value.zeta);
   EXPECT_EQ(read_doubles(out, "/fit/kappa_error")[0], want.error.kappa);
   EXPECT_EQ(read_doubles(out, "/fit/tan_theta_star")[0], want.tan_theta_star);
-  EXPECT_EQ(read_doubles(out, "/fit/theta_star")[0], want.theta_star * 180 / std::numbers::pi);
+  EXPECT_EQ(read_doubles(out, "/fit/theta_star")[0],
+            want.theta_star * (180 / std::numbers::pi));  // the table's kDegrees
   EXPECT_EQ(read_doubles(out, "/fit/chi2")[0], want.chi2);
   EXPECT_EQ(read_int64(out, "/fit/dof")[0], 1);
   // Four points: too few for the jackknife (NaN), as the library says.
