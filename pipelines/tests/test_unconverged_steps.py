@@ -74,7 +74,7 @@ class ConstructedTest(unittest.TestCase):
         self.assertAlmostEqual(t["spike_effect"], 0.0)
 
     def test_the_programs_count_first(self):
-        """With /observables/unconverged_steps (gf-shear since 2026-12-06) the capped steps are the
+        """With /observables/unconverged_steps (written by gf-shear) the capped steps are the
         rows it counts, not the residuals: here it leaves out step 1500."""
         with h5py.File(self.path, "r+") as f:
             steps = f["observables/pressure/step"][()]
