@@ -28,8 +28,9 @@ converged steps nearby; a difference from the run's mean that the converged neig
 a property of the states where the solver stalls, not of the policy.
 
 Output: a table on stdout, one line per run and observable (with --csv also to FILE, written
-atomically, a comment line first). Bad input (no such file, not a gf-shear trajectory, rows not one
-per step, too few rows in the window, no capped step): exit 2, one line, nothing written.
+atomically, a comment line first). Bad input (no such file, not a gf-shear trajectory, no
+tolerance, rows not one per step, too few rows in the window, no capped step or no converged
+one): exit 2, one line, nothing written.
 """
 import argparse
 import shlex
@@ -69,6 +70,8 @@ def read_run(path):
             raise ValueError(f"{path}: /observables lacks {', '.join(missing)}")
         steps = np.asarray(obs["pressure/step"][()], dtype=np.int64)
         series = {n: np.asarray(obs[n + "/value"][()], dtype=float) for n in need}
+        if "tolerance" not in prm:
+            raise ValueError(f"{path}: /parameters lacks tolerance")
         tolerance = float(prm["tolerance"])
         if "unconverged_steps" in obs:
             capped = np.asarray(obs["unconverged_steps/value"][()]) > 0
@@ -99,14 +102,14 @@ def analyse(path, from_strain):
     before, after = np.roll(capped, 1), np.roll(capped, -1)
     isolated = np.where(inner & capped & ~before & ~after)[0]
     ordinary = np.where(inner & ~capped & ~before & ~after)[0]
-    distance = np.full(len(steps), np.inf)
-    for c in np.where(capped)[0]:
-        distance = np.minimum(distance, np.abs(k - c))
-    nearby = ordinary[distance[ordinary] <= NEAR]
+    near_cap = np.convolve(capped.astype(float), np.ones(2 * NEAR + 1), mode="same") > 0
+    nearby = ordinary[near_cap[ordinary]]
     cw = np.where(window & capped)[0]
     if len(cw) == 0:
         raise ValueError(f"{path}: no step at the cap at strain >= {from_strain:g}")
     converged = window & ~capped
+    if not converged.any():
+        raise ValueError(f"{path}: every step at strain >= {from_strain:g} is at the cap")
     rows = []
     for name in OBSERVABLES:
         x = values[name]

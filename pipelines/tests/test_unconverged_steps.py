@@ -100,12 +100,16 @@ class ConstructedTest(unittest.TestCase):
         d = self.tmp.name
         sparse = constructed(os.path.join(d, "sparse.h5"), every=2)
         clean = constructed(os.path.join(d, "clean.h5"), capped={})
+        untold = constructed(os.path.join(d, "untold.h5"))
+        with h5py.File(untold, "r+") as f:
+            del f["parameters"].attrs["tolerance"]
         packing = os.path.join(d, "pack.h5")
         synthetic.write_packing(packing)
         cases = {
             "missing": [os.path.join(d, "nope.h5")],
             "not one row per step": [sparse],
             "no capped step": [clean],
+            "no tolerance": [untold],
             "not gf-shear": [packing],
             "window too short": [self.path, "--from-strain", "2.95"],
             "bad strain": [self.path, "--from-strain", "nan"],
